@@ -1,0 +1,2 @@
+"""silokit analysis toolkit: readers for LIGGGHTS output and records,
+statistics and plots for the silokit scenes (numpy/scipy/matplotlib only)."""

@@ -1,0 +1,91 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   The rolling resistance law of Jiang, Yu & Harris (2005) in its simplified
+   form, as used by Magalhaes, Atman, Combe & Moreira (2014), eq. 1:
+
+       tau = -k_r delta_r            while k_r |delta_r| <= mu_r f_el
+       tau = -mu_r f_el delta_r/|delta_r|  otherwise
+
+   written as plain functions of plain numbers, free of LIGGGHTS types, so
+   that rolling_model_jiang.h stays a thin adapter and the law can be reused
+   (or ported to modern LAMMPS) unchanged.
+------------------------------------------------------------------------- */
+
+#ifndef SILOKIT_ROLLING_LAW_JIANG_H
+#define SILOKIT_ROLLING_LAW_JIANG_H
+
+#include <cmath>
+
+namespace silokit {
+namespace jiang {
+
+// Length of the contact line between two discs (2D: the chord of their
+// overlap) or diameter of the contact circle of two spheres (3D); both are
+// 2a, with a the radius of the intersection of the two circles/spheres of
+// radii radius_i, radius_j whose centres are `distance` apart.
+inline double overlap_contact_length(double radius_i, double radius_j, double distance)
+{
+  // distance from centre i to the plane (line) of the intersection
+  const double x = (distance*distance + radius_i*radius_i - radius_j*radius_j) / (2.0*distance);
+  const double a_squared = radius_i*radius_i - x*x;
+  return a_squared > 0.0 ? 2.0*std::sqrt(a_squared) : 0.0;
+}
+
+// The same for a disc or sphere of radius `radius` pressed `overlap` deep
+// into a flat wall (the limit radius_j -> infinity of the above).
+inline double wall_overlap_contact_length(double radius, double overlap)
+{
+  const double a_squared = overlap*(2.0*radius - overlap);
+  return a_squared > 0.0 ? 2.0*std::sqrt(a_squared) : 0.0;
+}
+
+// Removes from v its component along the unit normal, then restores the
+// length v had: the stored rolling angle turns with the contact instead of
+// shrinking as the contact rotates, as LIGGGHTS does with the tangential
+// spring.
+inline void rotate_into_tangent_plane(double v[3], const double normal[3])
+{
+  const double length_before = std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2]*v[2]);
+  const double along_normal = v[0]*normal[0] + v[1]*normal[1] + v[2]*normal[2];
+  for (int k = 0; k < 3; ++k) v[k] -= along_normal*normal[k];
+  const double length_after = std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2]*v[2]);
+  const double scale = length_after > 1e-300 ? length_before/length_after : 0.0;
+  for (int k = 0; k < 3; ++k) v[k] *= scale;
+}
+
+// Removes from w its component along the unit normal (the twisting part of
+// a relative rotation, which rolling resistance ignores).
+inline void remove_normal_component(double w[3], const double normal[3])
+{
+  const double along_normal = w[0]*normal[0] + w[1]*normal[1] + w[2]*normal[2];
+  for (int k = 0; k < 3; ++k) w[k] -= along_normal*normal[k];
+}
+
+// The elastic-perfectly plastic rolling spring. rolling_angle (radians,
+// a vector in the tangent plane) is the accumulated relative rotation; when
+// the spring torque would exceed torque_limit, rolling_angle is cut back to
+// the limit so that a reversal unloads elastically from there. Writes the
+// torque on grain i (grain j gets the opposite) and returns true when the
+// contact rolls (spring saturated).
+inline bool spring_torque(double rolling_angle[3], double stiffness, double torque_limit,
+                          double torque[3])
+{
+  const double angle = std::sqrt(rolling_angle[0]*rolling_angle[0] +
+                                 rolling_angle[1]*rolling_angle[1] +
+                                 rolling_angle[2]*rolling_angle[2]);
+  const double spring = stiffness*angle;
+  const bool saturated = spring > torque_limit;
+  if (saturated) {
+    const double scale = torque_limit/spring;
+    for (int k = 0; k < 3; ++k) rolling_angle[k] *= scale;
+  }
+  for (int k = 0; k < 3; ++k) torque[k] = -stiffness*rolling_angle[k];
+  return saturated;
+}
+
+}  // namespace jiang
+}  // namespace silokit
+
+#endif

@@ -1,0 +1,217 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   rolling_friction jiang: rolling resistance after Jiang, Yu & Harris (2005)
+   as used by Magalhaes et al. (2014), eq. 1. Documentation:
+   doc/rolling_friction_jiang.md. The law itself is in rolling_law_jiang.h.
+
+     k_r  = a k_n l_c^2        (a: rollingStiffnessFactor, default 1)
+     mu_r = b mu  l_c          (b: rollingFrictionFactor,  default 1)
+     tau  = -k_r delta_r, capped at mu_r f_el
+
+   k_n is the normal model's stiffness at this contact (its secant stiffness
+   f_el/delta_n for non-linear models), f_el = k_n delta_n its elastic normal
+   force (no damping, no cohesion), mu = coefficientFriction.
+------------------------------------------------------------------------- */
+
+#ifdef ROLLING_MODEL
+ROLLING_MODEL(ROLLING_JIANG,jiang,7)
+#else
+#ifndef ROLLING_MODEL_JIANG_H_
+#define ROLLING_MODEL_JIANG_H_
+
+#include "contact_models.h"
+#include "rolling_model_base.h"
+#include "rolling_law_jiang.h"
+#include "global_properties.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "update.h"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace MODEL_PARAMS
+{
+  // Absolute contact length l_c per type pair, for the fixed-length mode.
+  inline MatrixProperty* createRollingContactLength(PropertyRegistry & registry,
+                                                    const char * caller, bool)
+  {
+    MatrixProperty * contact_length =
+      createPerTypePairProperty(registry, "rollingContactLength", caller);
+    const int max_type = registry.max_type();
+    for (int i = 1; i <= max_type; i++)
+      for (int j = 1; j <= max_type; j++)
+        if (!(contact_length->data[i][j] > 0.0)) {
+          std::ostringstream message;
+          message << "rolling_friction jiang: rollingContactLength must be > 0 "
+                  << "for every type pair (types " << i << " " << j << " have "
+                  << contact_length->data[i][j] << ")";
+          registry.getLAMMPS()->error->all(FLERR, message.str().c_str());
+        }
+    return contact_length;
+  }
+}
+
+namespace LIGGGHTS {
+namespace ContactModels
+{
+  using namespace LAMMPS_NS;
+
+  template<>
+  class RollingModel<ROLLING_JIANG> : public RollingModelBase
+  {
+  public:
+    RollingModel(class LAMMPS * lmp, IContactHistorySetup * hsetup, class ContactModelBase * c) :
+        RollingModelBase(lmp, hsetup, c),
+        coefficient_friction(NULL), fixed_contact_length(NULL), rolling_damping_ratio(NULL),
+        stiffness_factor(1.0), friction_factor(1.0),
+        contact_length_from_overlap(false), rolling_damping(false)
+    {
+      // accumulated relative rolling angle, a vector in the tangent plane;
+      // newton flag "1": it changes sign when i and j swap
+      history_offset = hsetup->add_history_value("jiang_rolling_angle_x", "1");
+      hsetup->add_history_value("jiang_rolling_angle_y", "1");
+      hsetup->add_history_value("jiang_rolling_angle_z", "1");
+    }
+
+    void registerSettings(Settings & settings)
+    {
+      settings.registerDoubleSetting("rollingStiffnessFactor", stiffness_factor, 1.0);
+      settings.registerDoubleSetting("rollingFrictionFactor", friction_factor, 1.0);
+      settings.registerOnOff("contactLengthFromOverlap", contact_length_from_overlap, false);
+      settings.registerOnOff("rollingDamping", rolling_damping, false);
+    }
+
+    inline void postSettings(IContactHistorySetup *, ContactModelBase *)
+    {
+      // DoubleSetting takes any text through atof: check what it made of it
+      if (!(stiffness_factor > 0.0))
+        error->all(FLERR, "rolling_friction jiang: rollingStiffnessFactor must be > 0");
+      if (!(friction_factor > 0.0))
+        error->all(FLERR, "rolling_friction jiang: rollingFrictionFactor must be > 0");
+    }
+
+    void connectToProperties(PropertyRegistry & registry)
+    {
+      registry.registerProperty("coeffFrict", &MODEL_PARAMS::createCoeffFrict);
+      registry.connect("coeffFrict", coefficient_friction, "rolling_friction jiang");
+      if (!contact_length_from_overlap) {
+        registry.registerProperty("rollingContactLength", &MODEL_PARAMS::createRollingContactLength);
+        registry.connect("rollingContactLength", fixed_contact_length, "rolling_friction jiang");
+      }
+      if (rolling_damping) {
+        registry.registerProperty("coeffRollVisc", &MODEL_PARAMS::createCoeffRollVisc);
+        registry.connect("coeffRollVisc", rolling_damping_ratio, "rolling_friction jiang");
+      }
+      if (force->cg_active())
+        error->cg(FLERR, "rolling_friction jiang");
+    }
+
+    void surfacesIntersect(SurfacesIntersectData & sidata, ForceData & i_forces, ForceData & j_forces)
+    {
+      if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_ROLLING_MODEL;
+
+      const int itype = sidata.itype;
+      const int jtype = sidata.jtype;
+      const double * const normal = sidata.en;
+
+      // relative rotation rate, its twisting part removed
+      double relative_omega[3];
+      for (int k = 0; k < 3; ++k)
+        relative_omega[k] = sidata.is_wall ? sidata.omega_i[k]
+                                           : sidata.omega_i[k] - sidata.omega_j[k];
+      silokit::jiang::remove_normal_component(relative_omega, normal);
+
+      const double contact_length = contactLength(sidata);
+      const double elastic_normal_force = sidata.kn*sidata.deltan;
+      const double stiffness = stiffness_factor*sidata.kn*contact_length*contact_length;
+      const double torque_limit = friction_factor*coefficient_friction[itype][jtype]*
+                                  contact_length*std::max(elastic_normal_force, 0.0);
+
+      double * const history = &sidata.contact_history[history_offset];
+      double rolling_angle[3] = { history[0], history[1], history[2] };
+      silokit::jiang::rotate_into_tangent_plane(rolling_angle, normal);
+      const double dt = update->dt;
+      for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
+
+      double torque[3];
+      const bool rolls = silokit::jiang::spring_torque(rolling_angle, stiffness, torque_limit, torque);
+
+      if (sidata.computeflag && sidata.shearupdate)
+        for (int k = 0; k < 3; ++k) history[k] = rolling_angle[k];
+
+      // viscous rolling damping acts on the elastic branch only, as in epsd3:
+      // a rolling (saturated) contact already dissipates through the cap
+      if (rolling_damping && !rolls) {
+        const double damping = rolling_damping_ratio[itype][jtype]*2.0*
+                               std::sqrt(rollingInertia(sidata)*stiffness);
+        for (int k = 0; k < 3; ++k) torque[k] -= damping*relative_omega[k];
+      }
+
+      for (int k = 0; k < 3; ++k) {
+        i_forces.delta_torque[k] += torque[k];
+        j_forces.delta_torque[k] -= torque[k];
+      }
+    }
+
+    void surfacesClose(SurfacesCloseData & scdata, ForceData &, ForceData &)
+    {
+      // the contact has opened: the next one starts from an unloaded spring
+      if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_ROLLING_MODEL;
+      double * const history = &scdata.contact_history[history_offset];
+      history[0] = history[1] = history[2] = 0.0;
+    }
+
+    void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+    void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+
+  private:
+    double ** coefficient_friction;
+    double ** fixed_contact_length;
+    double ** rolling_damping_ratio;
+    double stiffness_factor;
+    double friction_factor;
+    bool contact_length_from_overlap;
+    bool rolling_damping;
+    int history_offset;
+
+    inline double contactLength(const SurfacesIntersectData & sidata) const
+    {
+      if (contact_length_from_overlap)
+        return sidata.is_wall
+          ? silokit::jiang::wall_overlap_contact_length(sidata.radi, sidata.deltan)
+          : silokit::jiang::overlap_contact_length(sidata.radi, sidata.radj, sidata.r);
+
+      const double contact_length = fixed_contact_length[sidata.itype][sidata.jtype];
+      const double smallest_diameter =
+        2.0*(sidata.is_wall ? sidata.radi : std::min(sidata.radi, sidata.radj));
+      if (contact_length > smallest_diameter) {
+        std::ostringstream message;
+        message << "rolling_friction jiang: rollingContactLength " << contact_length
+                << " for types " << sidata.itype << " " << sidata.jtype
+                << " is larger than the diameter " << smallest_diameter
+                << " of a grain in contact";
+        error->one(FLERR, message.str().c_str());
+      }
+      return contact_length;
+    }
+
+    // Reduced moment of inertia for rolling about the contact point: disc
+    // (2D) 1/2 m r^2 + m r^2, sphere 2/5 m r^2 + m r^2, as in epsd2/epsd3.
+    inline double rollingInertia(const SurfacesIntersectData & sidata) const
+    {
+      const double factor = domain->dimension == 2 ? 1.5 : 1.4;
+      const double inertia_i = factor*sidata.mi*sidata.radi*sidata.radi;
+      if (sidata.is_wall) return inertia_i;
+      const double inertia_j = factor*sidata.mj*sidata.radj*sidata.radj;
+      return inertia_i*inertia_j/(inertia_i + inertia_j);
+    }
+  };
+}
+}
+
+#endif // ROLLING_MODEL_JIANG_H_
+#endif

@@ -1,0 +1,25 @@
+"""Small LIGGGHTS decks shared by the tests: material blocks and the
+two-grain configurations the rolling-resistance checks are built on."""
+
+
+def hooke_materials(kn, kt, gamman=0.0, gammat=0.0, mu=0.5, ntypes=1, extra=""):
+    """property/global block for `model hooke/stiffness` with identical
+    values for every type pair."""
+    pairs = ntypes * ntypes
+
+    def matrix(value):
+        return " ".join([repr(float(value))] * pairs)
+
+    return f"""
+fix m_kn all property/global kn peratomtypepair {ntypes} {matrix(kn)}
+fix m_kt all property/global kt peratomtypepair {ntypes} {matrix(kt)}
+fix m_gn all property/global gamman peratomtypepair {ntypes} {matrix(gamman)}
+fix m_gt all property/global gammat peratomtypepair {ntypes} {matrix(gammat)}
+fix m_mu all property/global coefficientFriction peratomtypepair {ntypes} {matrix(mu)}
+{extra}
+"""
+
+
+def per_pair(name, value, ntypes=1):
+    values = " ".join([repr(float(value))] * (ntypes * ntypes))
+    return f"fix m_{name} all property/global {name} peratomtypepair {ntypes} {values}\n"

@@ -75,6 +75,8 @@ namespace ContactModels
       history_offset = hsetup->add_history_value("jiang_rolling_angle_x", "1");
       hsetup->add_history_value("jiang_rolling_angle_y", "1");
       hsetup->add_history_value("jiang_rolling_angle_z", "1");
+      // the last time step that advanced the spring (see isContinuing)
+      hsetup->add_history_value("jiang_last_step", "0");
     }
 
     void registerSettings(Settings & settings)
@@ -131,17 +133,28 @@ namespace ContactModels
       const double torque_limit = friction_factor*coefficient_friction[itype][jtype]*
                                   contact_length*std::max(elastic_normal_force, 0.0);
 
+      // The force call that sets up a run (after `run` or `read_restart`)
+      // must not advance the spring: it returns the torque of the stored
+      // angle, like stock `tangential history`, so that a run split in two
+      // or restarted continues exactly.
+      const bool update_history = sidata.computeflag && sidata.shearupdate;
       double * const history = &sidata.contact_history[history_offset];
-      double rolling_angle[3] = { history[0], history[1], history[2] };
-      silokit::jiang::rotate_into_tangent_plane(rolling_angle, normal);
-      const double dt = update->dt;
-      for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
+      double rolling_angle[3] = { 0.0, 0.0, 0.0 };
+      if (isContinuing(history, update_history))
+        for (int k = 0; k < 3; ++k) rolling_angle[k] = history[k];
+      if (update_history) {
+        silokit::jiang::rotate_into_tangent_plane(rolling_angle, normal);
+        const double dt = update->dt;
+        for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
+      }
 
       double torque[3];
       const bool rolls = silokit::jiang::spring_torque(rolling_angle, stiffness, torque_limit, torque);
 
-      if (sidata.computeflag && sidata.shearupdate)
+      if (update_history) {
         for (int k = 0; k < 3; ++k) history[k] = rolling_angle[k];
+        history[3] = static_cast<double>(update->ntimestep);
+      }
 
       // viscous rolling damping acts on the elastic branch only, as in epsd3:
       // a rolling (saturated) contact already dissipates through the cap
@@ -162,7 +175,7 @@ namespace ContactModels
       // the contact has opened: the next one starts from an unloaded spring
       if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_ROLLING_MODEL;
       double * const history = &scdata.contact_history[history_offset];
-      history[0] = history[1] = history[2] = 0.0;
+      history[0] = history[1] = history[2] = history[3] = 0.0;
     }
 
     void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
@@ -177,6 +190,20 @@ namespace ContactModels
     bool contact_length_from_overlap;
     bool rolling_damping;
     int history_offset;
+
+    // True when the stored rolling angle belongs to this contact: it was
+    // advanced in the previous step (the current one, for a call that does
+    // not advance it). LIGGGHTS 3.8 keeps the history of a pair that stopped
+    // touching until the next neighbor-list build (surfacesClose is only
+    // called within neigh_modify contact_distance_factor > 1), so a contact
+    // that opens and closes again between two builds would otherwise start
+    // from a stale, loaded spring. Exact in doubles for any step count below
+    // 2^53; `reset_timestep` makes every spring start unloaded again.
+    inline bool isContinuing(const double * history, bool advancing) const
+    {
+      const double step = static_cast<double>(update->ntimestep);
+      return history[3] == (advancing ? step - 1.0 : step);
+    }
 
     inline double contactLength(const SurfacesIntersectData & sidata) const
     {

@@ -32,6 +32,13 @@ restart.
     * epsd3 scales with reff = r_i r_j/(r_i + r_j), jiang uses an absolute
       l_c (or the overlap chord): with unequal radii one rmu cannot match one
       l_c for every pair.
+    * a contact that opens and closes again between two neighbor-list
+      builds: LIGGGHTS 3.8 keeps a pair's history until the next build
+      (surfacesClose, which resets it, is only called for pairs within
+      `neigh_modify contact_distance_factor` > 1), so epsd3 starts such a
+      contact with its old torque, whereas jiang recognises it (the step
+      stamp in its history) and starts unloaded. The pile therefore uses
+      contact_distance_factor 1.01, which makes both reset on opening.
     * at a wall (fix wall/gran) epsd3 uses reff = r_i, twice the pair value
       for equal grains, so a single rmu cannot match jiang for pair and wall
       contacts at once: the comparison uses grain contacts only (the floor
@@ -71,20 +78,11 @@ restart.
     run to 1e-12. Dynamic pile: the restarted run must equal a run that is
     split at the same step in one input (`run N` twice) to 1e-10.
 
-    KNOWN DEVIATION (test_restart_pile_matches_uninterrupted_run, xfail):
-    it does *not* equal an uninterrupted `run 2N`. In the force call made by
-    the setup of every run (update->setupflag, so sidata.shearupdate = 0)
-    rolling_model_jiang.h still adds the increment omega dt to the stored
-    angle (it only skips storing it), so the torque used for the first
-    half-step kick is -k_r (delta_N + omega_N dt) instead of -k_r delta_N.
-    The stock tangential history model (and LAMMPS' pair granular) use the
-    stored value unchanged in such calls; stock epsd3 has the same quirk as
-    jiang. With gamman = gammat = 0 and rolling off, a split or restarted
-    run is bit-identical to the uninterrupted one; with jiang omegas are off
-    by 1e-6 (relative) 100 steps after the boundary, positions by 1e-7 d
-    after 1000 steps and 7e-6 d after 2000 (chaos takes over). (With a
-    normal dashpot LIGGGHTS does not restart exactly anyway, see the
-    read_restart doc: damping sees the full-step velocity at setup.)
+    A restarted run continues an uninterrupted one exactly: the force call
+    of a run's setup returns the torque of the stored angle without
+    advancing it (as stock tangential history does), and a contact that
+    opened since the last neighbor-list build restarts unloaded whether or
+    not a run boundary (which rebuilds the lists) falls in between.
 """
 
 import math
@@ -222,12 +220,12 @@ def pile_layout(dimension, drift=0.0, seed=SEED):
     return fixed, mobile
 
 
-def pile_model(rolling, properties, gamman, dimension, dump_every):
+def pile_model(rolling, properties, gamman, dimension, dump_every, neighbor_options=""):
     """Everything a restarted pile run has to specify again."""
     twod = "fix twod all enforce2d" if dimension == 2 else ""
     return f"""
 neighbor 0.001 bin
-neigh_modify delay 0
+neigh_modify delay 0 {neighbor_options}
 {hooke_materials(KN, KT, gamman=gamman, mu=MU)}
 {properties}
 pair_style gran model hooke/stiffness tangential history rolling_friction {rolling}
@@ -260,7 +258,7 @@ region box block -0.08 0.08 -0.01 0.1 {z} units box
 
 
 def pile_deck(rolling, properties, runs, gamman=0.0, dimension=2, drift=0.0, dump_every=100,
-              restart_file=None):
+              restart_file=None, neighbor_options=""):
     """The pile, run for each entry of runs (several entries: the run is
     split in one input), then optionally write_restart."""
     fixed, mobile = pile_layout(dimension, drift)
@@ -279,7 +277,7 @@ set group all diameter {DIAMETER} density {DENSITY}
 group fixed id <= {len(fixed)}
 group mobile id > {len(fixed)}
 {chr(10).join(motion)}
-{pile_model(rolling, properties, gamman, dimension, dump_every)}
+{pile_model(rolling, properties, gamman, dimension, dump_every, neighbor_options)}
 thermo 1000
 {tail}
 """
@@ -389,7 +387,9 @@ PEER_TOLERANCE = 1e-9       # measured: 1.3e-12 d in positions, 3.6e-11 in omega
 
 
 def peer_pile(run, tmp_path, name, rolling, properties):
-    run(pile_deck(rolling, properties, [PEER_STEPS]), subdir=name)
+    # contact_distance_factor: see the docstring, re-formed contacts
+    run(pile_deck(rolling, properties, [PEER_STEPS],
+                  neighbor_options="contact_distance_factor 1.01"), subdir=name)
     return frames_by_step(tmp_path / name / "dump.traj")
 
 
@@ -509,10 +509,9 @@ def test_restart_held_pair_continues_torque_sequence(run, tmp_path, mode):
     # the continuation reaches the cap, so both branches follow the restart
     assert np.isclose(whole[2 * half], -limit, rtol=1e-9)
 
-    # the setup frame (step N) of the restarted run is left out: see the
-    # module docstring (KNOWN DEVIATION), it does not feed back here since
-    # the grains are not integrated
-    later = range(half + 1, 2 * half + 1)
+    # from the setup frame (step N) of the restarted run on: the setup call
+    # returns the stored torque without advancing the spring
+    later = range(half, 2 * half + 1)
     continued = np.array([second[s] for s in later])
     uninterrupted = np.array([whole[s] for s in later])
     # a lost history would restart from 0 and miss by 0.6 limit
@@ -560,7 +559,7 @@ def test_restart_pile_matches_split_run(run, tmp_path, mode):
 
 
 def test_restart_pile_without_rolling_matches_uninterrupted_run(run, tmp_path):
-    """Control for the xfail below: with rolling friction off (and no
+    """Control for the test below: with rolling friction off (and no
     dashpots) the restarted pile equals the uninterrupted run."""
     restarted = restarted_pile(run, tmp_path, "off", "")
     run(pile_deck("off", "", [2 * RESTART_STEPS]), subdir="whole")
@@ -571,12 +570,9 @@ def test_restart_pile_without_rolling_matches_uninterrupted_run(run, tmp_path):
     assert omega < RESTART_TOLERANCE
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="rolling_model_jiang.h adds omega*dt to the rolling angle also in "
-                   "the setup force call (shearupdate = 0), so the first half-step after "
-                   "any run/restart boundary sees a different torque; deviation ~1e-7 d "
-                   "after 1000 steps (same quirk as stock epsd3)")
 def test_restart_pile_matches_uninterrupted_run(run, tmp_path):
+    """The restarted jiang pile equals one uninterrupted `run 2N` (see the
+    module docstring: setup force call, re-formed contacts)."""
     rolling, properties = "jiang", per_pair("rollingContactLength", FIXED_LENGTH)
     restarted = restarted_pile(run, tmp_path, rolling, properties)
     run(pile_deck(rolling, properties, [2 * RESTART_STEPS]), subdir="whole")

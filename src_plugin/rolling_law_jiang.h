@@ -63,6 +63,25 @@ inline void remove_normal_component(double w[3], const double normal[3])
   for (int k = 0; k < 3; ++k) w[k] -= along_normal*normal[k];
 }
 
+// Adapts the stored rolling angle to a stiffness that changed since the
+// last step (contact length from the overlap, or a non-linear normal
+// model). The paper does not say what happens then; we take Jiang's picture
+// of a contact line of springs: springs that join at the rim of a growing
+// contact start unstretched, so the torque stays (the angle shrinks by
+// old/new), and springs lost at the rim of a shrinking contact take their
+// load with them, so the angle stays and the torque drops with k_r. Either
+// way the spring energy k_r |angle|^2 / 2 never grows without a relative
+// rotation: a contact whose overlap oscillates cannot pump energy into the
+// rolling mode.
+inline void adapt_to_stiffness(double rolling_angle[3], double old_stiffness,
+                               double new_stiffness)
+{
+  if (new_stiffness > old_stiffness) {
+    const double scale = old_stiffness/new_stiffness;
+    for (int k = 0; k < 3; ++k) rolling_angle[k] *= scale;
+  }
+}
+
 // The elastic-perfectly plastic rolling spring. rolling_angle (radians,
 // a vector in the tangent plane) is the accumulated relative rotation; when
 // the spring torque would exceed torque_limit, rolling_angle is cut back to

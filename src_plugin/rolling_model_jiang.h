@@ -26,12 +26,15 @@ ROLLING_MODEL(ROLLING_JIANG,jiang,7)
 #include "rolling_law_jiang.h"
 #include "global_properties.h"
 #include "domain.h"
+#include "comm.h"
 #include "error.h"
 #include "force.h"
 #include "update.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
+#include <string>
 
 namespace MODEL_PARAMS
 {
@@ -77,6 +80,8 @@ namespace ContactModels
       hsetup->add_history_value("jiang_rolling_angle_z", "1");
       // the last time step that advanced the spring (see isContinuing)
       hsetup->add_history_value("jiang_last_step", "0");
+      // k_r at that step (see silokit::jiang::adapt_to_stiffness)
+      hsetup->add_history_value("jiang_stiffness", "0");
     }
 
     void registerSettings(Settings & settings)
@@ -144,6 +149,7 @@ namespace ContactModels
         for (int k = 0; k < 3; ++k) rolling_angle[k] = history[k];
       if (update_history) {
         silokit::jiang::rotate_into_tangent_plane(rolling_angle, normal);
+        silokit::jiang::adapt_to_stiffness(rolling_angle, history[4], stiffness);
         const double dt = update->dt;
         for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
       }
@@ -154,6 +160,7 @@ namespace ContactModels
       if (update_history) {
         for (int k = 0; k < 3; ++k) history[k] = rolling_angle[k];
         history[3] = static_cast<double>(update->ntimestep);
+        history[4] = stiffness;
       }
 
       // viscous rolling damping acts on the elastic branch only, as in epsd3:
@@ -175,7 +182,7 @@ namespace ContactModels
       // the contact has opened: the next one starts from an unloaded spring
       if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_ROLLING_MODEL;
       double * const history = &scdata.contact_history[history_offset];
-      history[0] = history[1] = history[2] = history[3] = 0.0;
+      for (int k = 0; k < 5; ++k) history[k] = 0.0;
     }
 
     void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
@@ -221,9 +228,24 @@ namespace ContactModels
                 << " for types " << sidata.itype << " " << sidata.jtype
                 << " is larger than the diameter " << smallest_diameter
                 << " of a grain in contact";
-        error->one(FLERR, message.str().c_str());
+        abortOnThisRank(message.str());
       }
       return contact_length;
+    }
+
+    // Only the rank that meets a bad contact knows of it, so this is an
+    // error->one. That prints to the screen without flushing and then calls
+    // MPI_Abort, which loses the message of a run whose output goes to a
+    // pipe or file: write and flush it to the log and to stderr first.
+    void abortOnThisRank(const std::string & message) const
+    {
+      fprintf(stderr, "ERROR on proc %d: %s\n", comm->me, message.c_str());
+      fflush(stderr);
+      if (logfile) {
+        fprintf(logfile, "ERROR on proc %d: %s\n", comm->me, message.c_str());
+        fflush(logfile);
+      }
+      error->one(FLERR, message.c_str());
     }
 
     // Reduced moment of inertia for rolling about the contact point: disc

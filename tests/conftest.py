@@ -24,22 +24,27 @@ class LiggghtsError(RuntimeError):
         self.output = output
 
 
-def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600):
+def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600, prefix=()):
     """Writes `deck` to workdir/in.deck, runs it (under mpirun when
-    nprocs > 1) and returns the screen output. Raises LiggghtsError carrying
-    the ERROR line when LIGGGHTS fails."""
+    nprocs > 1; `prefix` wraps the LIGGGHTS command, e.g. stdbuf) and
+    returns the screen output. Raises LiggghtsError carrying the ERROR line
+    when LIGGGHTS fails; a hang ends in subprocess.TimeoutExpired."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
-    command = [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen", "-log", "log.liggghts"]
+    command = list(prefix) + [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen",
+                              "-log", "log.liggghts"]
     for name, value in (variables or {}).items():
         command += ["-var", name, str(value)]
     if nprocs > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(nprocs)] + command
+    # errors="replace": on some errors stock LIGGGHTS (error_special.h)
+    # prints a line of garbage bytes after the message
     result = subprocess.run(command, cwd=workdir, capture_output=True, text=True,
-                            timeout=timeout)
+                            errors="replace", timeout=timeout)
     output = result.stdout + result.stderr
-    errors = [line for line in output.splitlines() if "ERROR" in line]
+    # lines that start with ERROR: Open MPI's own ORTE_ERROR_LOG lines do not
+    errors = [line for line in output.splitlines() if line.startswith("ERROR")]
     if result.returncode != 0 or errors:
         raise LiggghtsError(errors[0] if errors else f"exit code {result.returncode}", output)
     return output

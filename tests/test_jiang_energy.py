@@ -37,17 +37,11 @@ that created energy (wrong sign, torque on j not opposite to that on i,
 history not capped, spring not reset, ...) would show rises far above them.
 
 With contactLengthFromOverlap on, k_r = k_n l_c(d_n)^2 changes with the
-overlap while no normal force -dU/dd_n = -1/2 (dk_r/dd_n) |delta_r|^2 acts
-back on the overlap: 1/2 k_r |delta_r|^2 is then not a potential, and a
-loaded rolling spring changes its energy by 1/2 |delta_r|^2 dk_r per step
-with no work done on the grains. In the gas (short collisions, delta_r and
-k_r both start from zero at every contact) this stays below the integrator
-noise and the strict check holds. In the vibrating crystal it pumps energy
-from the (undamped, undiminished) normal vibration into the spins: the free
-energy climbs back to 7.4 times its lowest value within the 10^6 steps and
-contacts open. test_lattice_overlap_mode_never_gains_energy documents that
-(xfail), and test_lattice_overlap_mode_gains_only_through_stiffness_change
-checks, with per-step dumps, that the stiffness change is the only source.
+overlap while no normal force acts back on it, so 1/2 k_r |delta_r|^2 is no
+potential: the model's rule for a changing stiffness (the torque stays when
+k_r grows, drops with it when k_r falls) makes every such change release
+energy. The vibrating crystal, whose 48 contacts never open, checks it
+(measured: largest rise 1.6e-4 of the free energy, 2.6 % of it left).
 """
 
 import math
@@ -67,11 +61,12 @@ EVERY = 1000
 
 # contact-dump layout: id (3 values), history, delta. The history is in the
 # order in which the sub-models register their values: tangential history
-# (shearx/y/z), then rolling (jiang_rolling_angle_x/y/z, jiang_last_step).
-# Checked below: in 2D the shear has no z and the rolling angle only z, and
-# jiang_last_step is the step of the sample for every contact.
+# (shearx/y/z), then rolling (jiang_rolling_angle_x/y/z, jiang_last_step,
+# jiang_stiffness). Checked below: in 2D the shear has no z and the rolling
+# angle only z, jiang_last_step is the step of the sample for every contact,
+# and jiang_stiffness is k_r = k_n l_c^2 of the contact's geometry.
 COLUMNS = ["id1", "id2", "periodic", "shearx", "sheary", "shearz",
-           "rollx", "rolly", "rollz", "rollstep", "delta"]
+           "rollx", "rolly", "rollz", "rollstep", "rollstiffness", "delta"]
 
 
 def disc_mass(radius):
@@ -181,6 +176,8 @@ class Ledger:
                 else:
                     length = fixed_length
                 k_r = KN * length ** 2
+                if step > 0:
+                    np.testing.assert_allclose(col["rollstiffness"], k_r, rtol=1e-9)
                 normal = 0.5 * KN * np.sum(overlap ** 2)
                 tangential = 0.5 * KT * np.sum(shear ** 2)
                 rolling = 0.5 * np.sum(k_r * angle ** 2)
@@ -326,16 +323,18 @@ def largest_relative_rise(energy):
     return ((energy - lowest_so_far) / (lowest_so_far - LATTICE_REST_ENERGY)).max()
 
 
-def check_lattice_preconditions(ledger, stays_closed=True):
+def check_lattice_preconditions(ledger, stays_closed=True, saturates=True):
     # all 48 contacts stay closed all along: the rolling springs are never
     # reset by an opening contact, they are loaded and unloaded in place
     if stays_closed:
         assert min(ledger.n_contacts) == max(ledger.n_contacts) == LATTICE_CONTACTS
     assert ledger.out_of_plane < 1e-20
     assert (ledger.parts[1:, 4] > 0).all()
-    # the cap is reached (at the start, when the spins are fast) and respected
-    assert ledger.saturation.max() == pytest.approx(1.0, rel=1e-9)
+    # the cap is respected, and reached (at the start, when the spins are
+    # fast) at some sampled contact where the samples happen to catch it
     assert ledger.saturation.max() <= 1.0 + 1e-9
+    if saturates:
+        assert ledger.saturation.max() == pytest.approx(1.0, rel=1e-9)
 
 
 @pytest.fixture(scope="module")
@@ -371,73 +370,21 @@ def test_lattice_bookkeeping_resolves_rolling_spring(fixed_lattice):
 
 
 def test_lattice_overlap_mode_never_gains_energy(run, tmp_path):
-    """Known defect, see the module docstring: with contactLengthFromOverlap
-    on, the vibrating crystal gains energy (measured: the free energy climbs
-    back to 7.4 times its lowest value, and the crystal heats up until
-    some contacts open). Reported as xfail while it is so; fails if the
-    model starts to conserve energy, so that this becomes a strict check."""
+    """With l_c from the overlap, k_r = k_n l_c(d_n)^2 follows the normal
+    vibration of every contact of the crystal. Storing the angle alone, a
+    loaded spring would gain 1/2 |delta_r|^2 dk_r whenever k_r grows, with no
+    work done on the grains, and the vibrating crystal would pump its normal
+    vibration into the spins (measured before the rule below: the free
+    energy climbed back to 7.4 times its lowest value and contacts opened).
+    The model's rule (silokit::jiang::adapt_to_stiffness: when k_r grows the
+    angle shrinks so that the torque stays; when it drops the torque drops)
+    makes every stiffness change release energy, never add it: the same
+    strict check as for the fixed length holds (measured rise 1.6e-4)."""
     run(lattice_deck("overlap"))
     ledger = Ledger(tmp_path, 16, None)
-    check_lattice_preconditions(ledger, stays_closed=False)
-    rise = largest_relative_rise(ledger.total())
-    if rise > LATTICE_TOLERANCE:
-        pytest.xfail(f"contactLengthFromOverlap on: the isolated crystal gains energy "
-                     f"(rise {rise:.2f} of the free energy left; tolerance "
-                     f"{LATTICE_TOLERANCE}) through 1/2 |delta_r|^2 dk_r")
-    pytest.fail("contactLengthFromOverlap on no longer gains energy in the crystal: "
-                "make this a strict check")
-
-
-PUMP_STEPS = 6000
-
-
-def test_lattice_overlap_mode_gains_only_through_stiffness_change(run, tmp_path):
-    """With l_c from the overlap, the one energy source the law has is the
-    stiffness change under a loaded spring, 1/2 |delta_r|^2 dk_r per step.
-    Dump every step of the first 6000 and check that E minus the summed
-    source never rises: the rolling torque itself does no more work than its
-    spring releases, and the cap only dissipates. (Written for the law as it
-    is; a model that conserves energy would fail the check that E itself
-    rises, and should then drop this test for a strict one.)"""
-    columns = " ".join(f"c_pgl[{k + 1}]" for k in range(len(COLUMNS)))
-    output = f"""
-dump atoms all custom 1 dump.atoms id mass radius vx vy vz omegax omegay omegaz
-dump_modify atoms format "%d %.14g %.14g %.14g %.14g %.14g %.14g %.14g %.14g"
-dump contacts all local 1 dump.contacts {columns}
-dump_modify contacts format "{' '.join(['%.14g'] * len(COLUMNS))}"
-run {PUMP_STEPS}
-"""
-    run(lattice_deck("overlap", output=output))
-    ledger = Ledger(tmp_path, 16, None)
-    check_lattice_preconditions(ledger)
-    assert len(ledger.steps) == PUMP_STEPS + 1
-
-    # k_r and |delta_r|^2 of every contact, keyed by its pair of ids and its
-    # periodic flag, step by step
-    frames = []
-    atoms = read_dump(tmp_path / "dump.atoms")
-    for (_, a), (_, c) in zip(atoms, read_dump(tmp_path / "dump.contacts")):
-        col = {name: c[f"c_pgl[{k + 1}]"] for k, name in enumerate(COLUMNS)}
-        i = col["id1"].astype(int)
-        j = col["id2"].astype(int)
-        radius = a["radius"]
-        k_r = KN * chord(radius[i - 1], radius[j - 1],
-                         radius[i - 1] + radius[j - 1] - col["delta"]) ** 2
-        angle2 = col["rollx"] ** 2 + col["rolly"] ** 2 + col["rollz"] ** 2
-        keys = zip(np.minimum(i, j), np.maximum(i, j), col["periodic"].astype(int))
-        frames.append(dict(zip(keys, zip(k_r, angle2))))
-    source = [0.0]
-    for before, after in zip(frames[:-1], frames[1:]):
-        assert before.keys() == after.keys()
-        source.append(sum(0.5 * (after[k][0] - before[k][0]) * 0.5 * (before[k][1] + after[k][1])
-                          for k in before))
-    source = np.cumsum(source)
+    check_lattice_preconditions(ledger, saturates=False)
     energy = ledger.total()
-    free = energy.min() - LATTICE_REST_ENERGY
-
-    # the source matters: it is well above the tolerance, and E itself
-    # rises by more than the tolerance already in this window
-    assert source.max() > 5 * LATTICE_TOLERANCE * free
-    assert largest_relative_rise(energy) > LATTICE_TOLERANCE
-    # and it is all there is
-    assert largest_relative_rise(energy - source) < 0.1 * LATTICE_TOLERANCE
+    free = energy[0] - LATTICE_REST_ENERGY
+    assert energy.max() <= energy[0] * (1 + 1e-9)
+    assert largest_relative_rise(energy) < LATTICE_TOLERANCE, largest_relative_rise(energy)
+    assert energy[-1] - LATTICE_REST_ENERGY < 0.3 * free

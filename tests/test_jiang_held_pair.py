@@ -113,3 +113,37 @@ def test_torque_loads_saturates_and_unloads(run, tmp_path, mode):
     assert np.isclose(tz1[load - 1], -limit, rtol=1e-6)
     assert -limit < tz1[0] < 0
     assert tz1[-1] > 0  # unloaded through zero, elastic the whole way
+
+
+def test_nonlinear_normal_model_uses_secant_stiffness(run, tmp_path):
+    """With `model hertz`, k_n is the secant stiffness the normal model
+    reports, 4/3 Y* sqrt(R* delta_n), and f_el = k_n delta_n its elastic
+    force: the held pair's torque follows eq. 1 with those, computed here
+    from the Hertz formula (Y* = Y / (2 (1 - nu^2)), R* = r / 2)."""
+    youngs, poisson = 5.0e6, 0.3
+    materials = f"""
+fix m_Y all property/global youngsModulus peratomtype {youngs}
+fix m_nu all property/global poissonsRatio peratomtype {poisson}
+fix m_e all property/global coefficientRestitution peratomtypepair 1 0.9
+fix m_mu all property/global coefficientFriction peratomtypepair 1 {MU}
+{per_pair("rollingContactLength", FIXED_LENGTH)}
+"""
+    overlap = 2 * RADIUS - DISTANCE
+    secant = 4.0 / 3.0 * youngs / (2 * (1 - poisson ** 2)) * math.sqrt(RADIUS / 2 * overlap)
+    stiffness = secant * FIXED_LENGTH ** 2
+    limit = MU * FIXED_LENGTH * secant * overlap
+    steps_to_cap = limit / (stiffness * 2 * OMEGA * DT)
+    load, unload = int(steps_to_cap * 1.6), int(steps_to_cap * 1.2)
+    deck = held_pair_deck("", "", load, unload).replace(
+        "model hooke/stiffness", "model hertz")
+    deck = deck[:deck.index("fix m_kn")] + materials + deck[deck.index("pair_style"):]
+    run(deck)
+    tz1, _, _ = measured_torque(tmp_path / "dump.torque")
+    angle, expected = 0.0, []
+    for step in range(1, load + unload + 1):
+        angle += (2 * OMEGA if step <= load else -2 * OMEGA) * DT
+        if abs(stiffness * angle) > limit:
+            angle = math.copysign(limit / stiffness, angle)
+        expected.append(-stiffness * angle)
+    np.testing.assert_allclose(tz1, expected, rtol=1e-6, atol=1e-9 * limit)
+    assert np.isclose(tz1[load - 1], -limit, rtol=1e-6)

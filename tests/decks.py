@@ -23,3 +23,15 @@ fix m_mu all property/global coefficientFriction peratomtypepair {ntypes} {matri
 def per_pair(name, value, ntypes=1):
     values = " ".join([repr(float(value))] * (ntypes * ntypes))
     return f"fix m_{name} all property/global {name} peratomtypepair {ntypes} {values}\n"
+
+
+def granular_setup(dimension=3, boundary="f f f"):
+    """The lines every deck of ours starts with: SI units, spheres (discs in
+    2D) with an atom map, and the ghost velocities granular contacts need."""
+    return f"""units si
+dimension {dimension}
+atom_style sphere
+atom_modify map array
+boundary {boundary}
+newton off
+communicate single vel yes"""

@@ -50,7 +50,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import hooke_materials, per_pair
+from decks import granular_setup, hooke_materials, per_pair
 
 KN = 1.0e5
 KT = 2.0 / 7.0 * KN
@@ -102,13 +102,7 @@ dump_modify contacts format "{doubles}"
 run {steps}
 """
     return f"""
-units si
-atom_style sphere
-atom_modify map array
-dimension 2
-boundary p p p
-newton off
-communicate single vel yes
+{granular_setup(dimension=2, boundary="p p p")}
 region box block 0 {num(box[0])} 0 {num(box[1])} -0.01 0.01 units box
 create_box 1 box
 neighbor 0.002 bin

@@ -22,7 +22,7 @@ run_deck is conftest.run_liggghts with a timeout: a hang fails the test.
 import pytest
 
 from conftest import LiggghtsError, has_mpirun, run_liggghts
-from decks import hooke_materials, per_pair
+from decks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 OVERLAP = 1.0e-4
@@ -54,12 +54,7 @@ def deck(where, settings="", properties=per_pair("rollingContactLength", CONTACT
         atoms = (f"create_atoms 1 single 0 0 {0.5 * diameters[0] - OVERLAP!r} units box\n"
                  f"set atom 1 diameter {diameters[0]!r} density 2500")
     return f"""
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+{granular_setup()}
 region box block -0.03 0.03 -0.03 0.03 -0.03 0.03 units box
 create_box {ntypes} box
 neighbor 0.001 bin

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import hooke_materials, per_pair
+from decks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 DISTANCE = 0.0099            # overlap 1e-4 m
@@ -25,12 +25,7 @@ FIXED_LENGTH = 1.0e-3
 def held_pair_deck(rolling_settings, properties, load_steps, unload_steps,
                    restart_at=None):
     return f"""
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+{granular_setup()}
 region box block -0.02 0.03 -0.02 0.02 -0.02 0.02 units box
 create_box 1 box
 neighbor 0.001 bin

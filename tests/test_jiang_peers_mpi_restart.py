@@ -92,7 +92,7 @@ import pytest
 
 from analysis.lammps_io import read_dump
 from conftest import has_mpirun
-from decks import hooke_materials, per_pair
+from decks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 DIAMETER = 2 * RADIUS
@@ -147,12 +147,7 @@ def held_pair_deck(rolling, properties, phases, restart_file=None, restart_after
         if restart_after == k:
             runs.append(f"write_restart {restart_file}")
     return f"""
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+{granular_setup()}
 region box block -0.02 0.03 -0.02 0.02 -0.02 0.02 units box
 create_box 1 box
 create_atoms 1 single 0 0 0 units box
@@ -245,13 +240,7 @@ def pile_header(dimension):
     half = PILE_Z_PERIOD / 2 if dimension == 3 else 0.005
     z = f"{-half!r} {half!r}"
     return f"""
-units si
-dimension {dimension}
-atom_style sphere
-atom_modify map array
-boundary f f p
-newton off
-communicate single vel yes
+{granular_setup(dimension=dimension, boundary="f f p")}
 processors * 1 1
 region box block -0.08 0.08 -0.01 0.1 {z} units box
 """

@@ -62,7 +62,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import hooke_materials, per_pair
+from decks import granular_setup, hooke_materials, per_pair
 
 G = 9.81
 DENSITY = 2500.0
@@ -188,13 +188,7 @@ def disc_on_disc_deck(support, theta):
     materials = hooke_materials(KN_2D, KT_2D, damping_coefficient(NORMAL_DAMPING, KN_2D),
                                 damping_coefficient(TANGENTIAL_DAMPING, KT_2D), support.mu)
     return f"""
-units si
-dimension 2
-atom_style sphere
-atom_modify map array
-boundary f f p
-newton off
-communicate single vel yes
+{granular_setup(dimension=2, boundary="f f p")}
 region box block -1.0 1.0 -2.0 0.05 -0.005 0.005 units box
 create_box 1 box
 neighbor 0.002 bin
@@ -339,12 +333,7 @@ def sphere_on_wall_deck(keywords, properties, v0, roll_steps):
     gamman = NORMAL_DAMPING * 2 * math.sqrt(MASS_3D * KN_3D) / MASS_3D
     gammat = TANGENTIAL_DAMPING * 2 * math.sqrt(MASS_3D * KT_3D) / MASS_3D
     return f"""
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+{granular_setup()}
 region box block -0.02 0.08 -0.02 0.02 -0.01 0.03 units box
 create_box 1 box
 neighbor 0.001 bin

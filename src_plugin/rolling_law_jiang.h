@@ -47,11 +47,13 @@ inline double wall_overlap_contact_length(double radius, double overlap)
 // spring.
 inline void rotate_into_tangent_plane(double v[3], const double normal[3])
 {
-  const double length_before = std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2]*v[2]);
   const double along_normal = v[0]*normal[0] + v[1]*normal[1] + v[2]*normal[2];
+  if (along_normal == 0.0) return;  // in the plane already (always so in 2D)
+  const double length_squared = v[0]*v[0] + v[1]*v[1] + v[2]*v[2];
+  const double in_plane_squared = length_squared - along_normal*along_normal;
   for (int k = 0; k < 3; ++k) v[k] -= along_normal*normal[k];
-  const double length_after = std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2]*v[2]);
-  const double scale = length_after > 1e-300 ? length_before/length_after : 0.0;
+  const double scale = in_plane_squared > 1e-300*length_squared
+                     ? std::sqrt(length_squared/in_plane_squared) : 0.0;
   for (int k = 0; k < 3; ++k) v[k] *= scale;
 }
 
@@ -91,13 +93,13 @@ inline void adapt_to_stiffness(double rolling_angle[3], double old_stiffness,
 inline bool spring_torque(double rolling_angle[3], double stiffness, double torque_limit,
                           double torque[3])
 {
-  const double angle = std::sqrt(rolling_angle[0]*rolling_angle[0] +
-                                 rolling_angle[1]*rolling_angle[1] +
-                                 rolling_angle[2]*rolling_angle[2]);
-  const double spring = stiffness*angle;
-  const bool saturated = spring > torque_limit;
+  // compare squares: the square root is needed only on the plastic branch
+  const double angle_squared = rolling_angle[0]*rolling_angle[0] +
+                               rolling_angle[1]*rolling_angle[1] +
+                               rolling_angle[2]*rolling_angle[2];
+  const bool saturated = stiffness*stiffness*angle_squared > torque_limit*torque_limit;
   if (saturated) {
-    const double scale = torque_limit/spring;
+    const double scale = torque_limit/(stiffness*std::sqrt(angle_squared));
     for (int k = 0; k < 3; ++k) rolling_angle[k] *= scale;
   }
   for (int k = 0; k < 3; ++k) torque[k] = -stiffness*rolling_angle[k];

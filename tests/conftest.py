@@ -24,16 +24,14 @@ class LiggghtsError(RuntimeError):
         self.output = output
 
 
-def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600, prefix=()):
+def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600):
     """Writes `deck` to workdir/in.deck, runs it (under mpirun when
-    nprocs > 1; `prefix` wraps the LIGGGHTS command, e.g. stdbuf) and
-    returns the screen output. Raises LiggghtsError carrying the ERROR line
-    when LIGGGHTS fails; a hang ends in subprocess.TimeoutExpired."""
+    nprocs > 1) and returns the screen output. Raises LiggghtsError carrying
+    the ERROR line when LIGGGHTS fails; a hang ends in TimeoutExpired."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
-    command = list(prefix) + [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen",
-                              "-log", "log.liggghts"]
+    command = [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen", "-log", "log.liggghts"]
     for name, value in (variables or {}).items():
         command += ["-var", name, str(value)]
     if nprocs > 1:

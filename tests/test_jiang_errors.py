@@ -31,8 +31,8 @@ JIANG = "model hooke/stiffness tangential history rolling_friction jiang"
 TIMEOUT = 120           # a hang shows up as TimeoutExpired, i.e. a failure
 
 
-def run_deck(deck, workdir, nprocs=1, prefix=()):
-    return run_liggghts(deck, workdir, nprocs=nprocs, timeout=TIMEOUT, prefix=prefix)
+def run_deck(deck, workdir, nprocs=1):
+    return run_liggghts(deck, workdir, nprocs=nprocs, timeout=TIMEOUT)
 
 
 def deck(where, settings="", properties=per_pair("rollingContactLength", CONTACT_LENGTH),
@@ -129,8 +129,8 @@ def test_contact_length_not_positive_names_the_type_pair(tmp_path):
 # that owns it, so it is an error->one (print, then MPI_Abort). Stock
 # Error::one does not flush stdout before the abort and writes nothing to
 # the log, so the model writes the message to stderr and the log first: it
-# must reach a serial batch run's captured output (checked without any
-# stdbuf below) and a run under mpirun -np 2.
+# must reach a serial batch run's captured output and a run under
+# mpirun -np 2.
 
 LARGE = 2 * RADIUS * 1.1
 

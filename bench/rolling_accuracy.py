@@ -35,6 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
+from analysis.deck_blocks import granular_setup  # noqa: E402
 from analysis.lammps_io import read_dump, read_table  # noqa: E402
 
 DT_FRACTIONS = [200, 100, 50, 20, 10]        # t_c / dt
@@ -121,12 +122,7 @@ def held_pair(mode, fraction, workdir):
     unload_time = round(1.2 * time_to_cap / coarse) * coarse
     load_steps = round(load_time / dt)
     unload_steps = round(unload_time / dt)
-    deck = f"""units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+    deck = f"""{granular_setup()}
 region box block -0.02 0.03 -0.02 0.02 -0.02 0.02 units box
 create_box 1 box
 neighbor 0.001 bin
@@ -187,13 +183,7 @@ def fig2(mode, fraction, workdir):
     dt = t_c / fraction
     steps = round(FIG2_TIME / dt)
     angle = math.radians(FIG2_ANGLE)
-    deck = f"""units si
-dimension 2
-atom_style sphere
-atom_modify map array
-boundary f f p
-newton off
-communicate single vel yes
+    deck = f"""{granular_setup(dimension=2, boundary="f f p")}
 region box block -0.03 0.03 -0.02 0.03 -0.005 0.005 units box
 create_box 1 box
 neighbor 0.002 bin
@@ -294,12 +284,7 @@ def rolling(mode, fraction, workdir):
     steps = round(0.9 * ROLL_DURATION / dt)
     every = max(1, round(ROLL_DURATION / 300 / dt))
     gamman = 2 * ROLL_DAMPING_RATIO * math.sqrt(KN / SPHERE_MASS)
-    deck = f"""units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+    deck = f"""{granular_setup()}
 region box block -0.01 0.02 -0.01 0.01 -0.001 0.02 units box
 create_box 1 box
 neighbor 0.001 bin

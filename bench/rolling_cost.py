@@ -27,6 +27,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
+sys.path.insert(0, str(benchlib.ROOT))
+from analysis.deck_blocks import granular_setup  # noqa: E402
+
 DIAMETER = 1.0e-3          # nominal disc diameter (m)
 POLYDISPERSITY = 0.05      # diameters uniform in d (1 +- 0.05)
 DENSITY = 2500.0
@@ -103,14 +106,7 @@ def walls(width):
             f"fix wall_bottom all wall/gran {model} primitive type 1 yplane 0.0\n")
 
 
-HEADER_2D = """units si
-dimension 2
-atom_style sphere
-atom_modify map array
-boundary f f p
-newton off
-communicate single vel yes
-"""
+HEADER_2D = granular_setup(dimension=2, boundary="f f p") + "\n"
 
 
 def settle_deck(rows, dt, steps):

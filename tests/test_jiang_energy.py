@@ -50,7 +50,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import granular_setup, hooke_materials, per_pair
+from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
 KN = 1.0e5
 KT = 2.0 / 7.0 * KN

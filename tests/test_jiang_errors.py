@@ -22,7 +22,7 @@ run_deck is conftest.run_liggghts with a timeout: a hang fails the test.
 import pytest
 
 from conftest import LiggghtsError, has_mpirun, run_liggghts
-from decks import granular_setup, hooke_materials, per_pair
+from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 OVERLAP = 1.0e-4

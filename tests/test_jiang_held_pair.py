@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import granular_setup, hooke_materials, per_pair
+from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 DISTANCE = 0.0099            # overlap 1e-4 m

@@ -92,7 +92,7 @@ import pytest
 
 from analysis.lammps_io import read_dump
 from conftest import has_mpirun
-from decks import granular_setup, hooke_materials, per_pair
+from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 DIAMETER = 2 * RADIUS

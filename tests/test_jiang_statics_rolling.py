@@ -62,7 +62,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump
-from decks import granular_setup, hooke_materials, per_pair
+from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
 G = 9.81
 DENSITY = 2500.0

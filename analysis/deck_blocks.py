@@ -1,5 +1,5 @@
-"""Small LIGGGHTS decks shared by the tests: material blocks and the
-two-grain configurations the rolling-resistance checks are built on."""
+"""Pieces of LIGGGHTS input that the tests, the benchmarks and the drivers
+share: the opening lines of a granular deck and property/global blocks."""
 
 
 def hooke_materials(kn, kt, gamman=0.0, gammat=0.0, mu=0.5, ntypes=1, extra=""):

@@ -1,0 +1,422 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   fix reinject: see fix_reinject.h and doc/fix_reinject.md.
+
+   How: every N steps (end_of_step) the ranks count the grains below the
+   exit plane; when there are any, a neighbor-list build is requested for
+   the next step, and in its pre_exchange every rank gathers the leavers and
+   the grains near the injection region, draws the same free spots with the
+   same random sequence (leavers sorted by id), and moves the leavers it
+   owns. The exchange that follows hands each moved grain to its new rank.
+   So the result does not depend on the number of ranks.
+------------------------------------------------------------------------- */
+
+#include "fix_reinject.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "random_park.h"
+#include "region.h"
+#include "update.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+
+// All ranks' values, concatenated in rank order.
+std::vector<double> allgather(const std::vector<double> &local, MPI_Comm world, int nprocs)
+{
+  const int count = static_cast<int>(local.size());
+  std::vector<int> counts(nprocs), offsets(nprocs, 0);
+  MPI_Allgather(const_cast<int *>(&count), 1, MPI_INT, &counts[0], 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; ++p) offsets[p] = offsets[p-1] + counts[p-1];
+  std::vector<double> all(offsets[nprocs-1] + counts[nprocs-1] + 1);  // +1: never empty
+  MPI_Allgatherv(count ? const_cast<double *>(&local[0]) : NULL, count, MPI_DOUBLE,
+                 &all[0], &counts[0], &offsets[0], MPI_DOUBLE, world);
+  all.pop_back();
+  return all;
+}
+
+bool overlaps(const double *centre, double radius, const double *other_centre, double other_radius)
+{
+  double distance_squared = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = centre[k] - other_centre[k];
+    distance_squared += d*d;
+  }
+  const double contact = radius + other_radius;
+  return distance_squared < contact*contact;
+}
+
+}  // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixReinject::FixReinject(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg),
+  axis(-1), exit_coordinate(0.0), region_id(NULL), region(NULL), random(NULL),
+  max_attempts(1000), rate_window(0.1), record(NULL),
+  grains_out(0.0), mass_out(0.0), avalanche(0.0)
+{
+  if (!atom->radius_flag || !atom->rmass_flag)
+    error->fix_error(FLERR, this, "needs per-atom radius and mass (atom_style sphere or granular)");
+
+  nevery = 1;
+  parse_arguments(narg, arg);
+
+  vector_flag = 1;
+  size_vector = 5;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixReinject::parse_arguments(int narg, char **arg)
+{
+  const char *file_name = NULL;
+  bool have_exit = false, have_seed = false;
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string keyword(arg[iarg]);
+    const int values = keyword == "exit" ? 2 : 1;
+    if (iarg + values >= narg) {
+      std::string message = "keyword '" + keyword + "' needs " +
+                            (values == 2 ? "two values" : "a value");
+      error->fix_error(FLERR, this, message.c_str());
+    }
+    const char *value = arg[iarg+1];
+    if (keyword == "exit") {
+      if (strcmp(value, "x") == 0) axis = 0;
+      else if (strcmp(value, "y") == 0) axis = 1;
+      else if (strcmp(value, "z") == 0) axis = 2;
+      else error->fix_error(FLERR, this, "'exit' takes an axis x, y or z, then a coordinate");
+      exit_coordinate = force_number(arg[iarg+2], "exit");
+      have_exit = true;
+    } else if (keyword == "region") {
+      delete [] region_id;
+      region_id = new char[strlen(value) + 1];
+      strcpy(region_id, value);
+    } else if (keyword == "seed") {
+      if (force_number(value, "seed") <= 0)
+        error->fix_error(FLERR, this, "'seed' must be a positive integer");
+      delete random;
+      random = new RanPark(lmp, value);
+      have_seed = true;
+    } else if (keyword == "every") {
+      nevery = static_cast<int>(force_number(value, "every"));
+      if (nevery < 1) error->fix_error(FLERR, this, "'every' must be >= 1");
+    } else if (keyword == "maxattempt") {
+      max_attempts = static_cast<int>(force_number(value, "maxattempt"));
+      if (max_attempts < 1) error->fix_error(FLERR, this, "'maxattempt' must be >= 1");
+    } else if (keyword == "rate_window") {
+      rate_window = force_number(value, "rate_window");
+      if (!(rate_window > 0.0)) error->fix_error(FLERR, this, "'rate_window' must be > 0");
+    } else if (keyword == "file") {
+      file_name = value;
+    } else {
+      std::string message = "unknown keyword '" + keyword +
+        "' (known: exit, region, seed, every, maxattempt, rate_window, file)";
+      error->fix_error(FLERR, this, message.c_str());
+    }
+    iarg += values + 1;
+  }
+  if (!have_exit) error->fix_error(FLERR, this, "'exit <axis> <coordinate>' is required");
+  if (!region_id) error->fix_error(FLERR, this, "'region <region-ID>' is required");
+  if (!have_seed) error->fix_error(FLERR, this, "'seed <positive integer>' is required");
+  if (domain->dimension == 2 && axis == 2)
+    error->fix_error(FLERR, this, "in 2D the vertical axis is x or y, not z");
+
+  if (file_name && comm->me == 0) {
+    record = fopen(file_name, "w");
+    if (!record) {
+      std::string message = std::string("cannot open file '") + file_name + "'";
+      error->one(FLERR, message.c_str());
+    }
+    fprintf(record, "# fix reinject %s: grains re-entered after leaving below %c = %g\n",
+            id, "xyz"[axis], exit_coordinate);
+    fprintf(record, "# step t n_out mass_out avalanche\n");
+    fflush(record);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixReinject::force_number(const char *text, const char *keyword)
+{
+  char *end = NULL;
+  const double value = strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value)) {
+    std::string message = std::string("'") + keyword + "' expects a number, got '" + text + "'";
+    error->fix_error(FLERR, this, message.c_str());
+  }
+  return value;
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixReinject::~FixReinject()
+{
+  delete [] region_id;
+  delete random;
+  if (record) fclose(record);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixReinject::setmask()
+{
+  return END_OF_STEP | PRE_EXCHANGE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixReinject::init()
+{
+  const int iregion = domain->find_region(region_id);
+  if (iregion == -1) {
+    std::string message = std::string("region '") + region_id + "' does not exist";
+    error->fix_error(FLERR, this, message.c_str());
+  }
+  region = domain->regions[iregion];
+  if (!region->bboxflag)
+    error->fix_error(FLERR, this, "the region must have a bounding box (e.g. block, cylinder)");
+  const double region_bottom = axis == 0 ? region->extent_xlo
+                             : axis == 1 ? region->extent_ylo : region->extent_zlo;
+  if (region_bottom <= exit_coordinate)
+    error->fix_error(FLERR, this, "the region must lie above the exit plane");
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixReinject::count_local_leavers() const
+{
+  int count = 0;
+  for (int i = 0; i < atom->nlocal; ++i)
+    if ((atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate) ++count;
+  return count;
+}
+
+/* ----------------------------------------------------------------------
+   every N steps: ask for a neighbor-list build next step if grains left
+------------------------------------------------------------------------- */
+
+void FixReinject::end_of_step()
+{
+  int local = count_local_leavers(), total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_INT, MPI_SUM, world);
+  if (total > 0) next_reneighbor = update->ntimestep + 1;
+  record_sample();
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::vector<FixReinject::Leaver> FixReinject::gather_leavers() const
+{
+  std::vector<double> local;
+  for (int i = 0; i < atom->nlocal; ++i)
+    if ((atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate) {
+      local.push_back(atom->tag[i]);
+      local.push_back(atom->radius[i]);
+      local.push_back(atom->rmass[i]);
+    }
+  const std::vector<double> all = allgather(local, world, comm->nprocs);
+  std::vector<Leaver> leavers;
+  for (size_t k = 0; k + 2 < all.size(); k += 3) {
+    Leaver leaver = { static_cast<int>(all[k]), all[k+1], all[k+2] };
+    leavers.push_back(leaver);
+  }
+  // the same order on every rank, whatever the decomposition
+  std::sort(leavers.begin(), leavers.end(),
+            [](const Leaver &a, const Leaver &b) { return a.tag < b.tag; });
+  return leavers;
+}
+
+/* ----------------------------------------------------------------------
+   every grain (of any group) whose centre is within `margin` of the
+   region's bounding box: what a re-entering grain must not overlap
+------------------------------------------------------------------------- */
+
+std::vector<FixReinject::Sphere> FixReinject::gather_spheres_near_region(double margin) const
+{
+  const double lo[3] = { region->extent_xlo - margin, region->extent_ylo - margin,
+                         region->extent_zlo - margin };
+  const double hi[3] = { region->extent_xhi + margin, region->extent_yhi + margin,
+                         region->extent_zhi + margin };
+  std::vector<double> local;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    const double *x = atom->x[i];
+    if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] ||
+        x[2] < lo[2] || x[2] > hi[2]) continue;
+    local.insert(local.end(), x, x + 3);
+    local.push_back(atom->radius[i]);
+  }
+  const std::vector<double> all = allgather(local, world, comm->nprocs);
+  std::vector<Sphere> spheres;
+  for (size_t k = 0; k + 3 < all.size(); k += 4) {
+    Sphere sphere = { { all[k], all[k+1], all[k+2] }, all[k+3] };
+    spheres.push_back(sphere);
+  }
+  return spheres;
+}
+
+/* ----------------------------------------------------------------------
+   a random spot where the whole grain lies in the region and touches no
+   other grain; the same on every rank (same seed, same sequence)
+------------------------------------------------------------------------- */
+
+bool FixReinject::find_free_spot(double radius, const std::vector<Sphere> &occupied, double *spot)
+{
+  const double lo[3] = { region->extent_xlo, region->extent_ylo, region->extent_zlo };
+  const double hi[3] = { region->extent_xhi, region->extent_yhi, region->extent_zhi };
+  for (int attempt = 0; attempt < max_attempts; ++attempt) {
+    for (int k = 0; k < 3; ++k) spot[k] = lo[k] + random->uniform()*(hi[k] - lo[k]);
+    if (domain->dimension == 2) spot[2] = 0.0;
+    if (!region->match_shrinkby_cut(spot, radius)) continue;
+    bool free = true;
+    for (size_t s = 0; s < occupied.size() && free; ++s)
+      free = !overlaps(spot, radius, occupied[s].x, occupied[s].radius);
+    if (free) return true;
+  }
+  return false;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixReinject::move_to(int tag, const double *spot)
+{
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (atom->tag[i] != tag) continue;
+    for (int k = 0; k < 3; ++k) {
+      atom->x[i][k] = spot[k];
+      atom->v[i][k] = 0.0;
+      atom->omega[i][k] = 0.0;
+    }
+    return;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   on the step after grains left: move them to the top
+------------------------------------------------------------------------- */
+
+void FixReinject::pre_exchange()
+{
+  if (next_reneighbor != update->ntimestep) return;
+  next_reneighbor = -1;
+
+  const std::vector<Leaver> leavers = gather_leavers();
+  if (leavers.empty()) return;
+
+  double largest_local = 0.0, largest = 0.0;
+  for (int i = 0; i < atom->nlocal; ++i) largest_local = std::max(largest_local, atom->radius[i]);
+  MPI_Allreduce(&largest_local, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
+  std::vector<Sphere> occupied = gather_spheres_near_region(2.0*largest);
+
+  for (size_t n = 0; n < leavers.size(); ++n) {
+    Sphere placed;
+    placed.radius = leavers[n].radius;
+    if (!find_free_spot(placed.radius, occupied, placed.x)) {
+      std::ostringstream message;
+      message << "no free spot in region '" << region_id << "' for grain " << leavers[n].tag
+              << " after " << max_attempts << " attempts: enlarge the region or raise 'maxattempt'";
+      error->fix_error(FLERR, this, message.str().c_str());
+    }
+    occupied.push_back(placed);
+    move_to(leavers[n].tag, placed.x);
+    grains_out += 1.0;
+    mass_out += leavers[n].mass;
+    avalanche += 1.0;
+  }
+
+  if (record) {
+    fprintf(record, BIGINT_FORMAT " %.15g %.0f %.15g %.0f\n", update->ntimestep,
+            update->get_cur_time(), grains_out, mass_out, avalanche);
+    fflush(record);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixReinject::record_sample()
+{
+  const Sample now = { update->get_cur_time(), grains_out, mass_out };
+  samples.push_back(now);
+  // keep the newest sample that is at least a window old, and all newer
+  // (with a tolerance for the rounding of accumulated times)
+  const double window_start = now.time - rate_window*(1.0 - 1e-9);
+  while (samples.size() > 2 && samples[1].time <= window_start)
+    samples.pop_front();
+}
+
+double FixReinject::rate(bool of_mass) const
+{
+  if (samples.size() < 2) return 0.0;
+  const Sample &first = samples.front(), &last = samples.back();
+  const double span = last.time - first.time;
+  if (!(span > 0.0)) return 0.0;
+  return ((of_mass ? last.mass - first.mass : last.grains - first.grains))/span;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixReinject::close_avalanche()
+{
+  const int size = static_cast<int>(avalanche);
+  avalanche = 0.0;
+  return size;
+}
+
+/* ----------------------------------------------------------------------
+   1 grains out, 2 mass out, 3 grains in the current avalanche,
+   4 grains per unit time and 5 mass per unit time over the rate window
+------------------------------------------------------------------------- */
+
+double FixReinject::compute_vector(int index)
+{
+  switch (index) {
+    case 0: return grains_out;
+    case 1: return mass_out;
+    case 2: return avalanche;
+    case 3: return rate(false);
+    case 4: return rate(true);
+  }
+  return 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixReinject::write_restart(FILE *fp)
+{
+  double list[4] = { grains_out, mass_out, avalanche, static_cast<double>(random->state()) };
+  if (comm->me == 0) {
+    int size = 4*sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 4, fp);
+  }
+}
+
+void FixReinject::restart(char *buf)
+{
+  const double *list = reinterpret_cast<double *>(buf);
+  grains_out = list[0];
+  mass_out = list[1];
+  avalanche = list[2];
+  random->reset(static_cast<int>(list[3]));
+}

@@ -1,0 +1,77 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   fix reinject: grains that fall below the outlet re-enter at the top of
+   the silo at a free spot, at rest, and are counted (flow rate, avalanche
+   size). Documentation: doc/fix_reinject.md.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+
+FixStyle(reinject,FixReinject)
+
+#else
+
+#ifndef LMP_FIX_REINJECT_H
+#define LMP_FIX_REINJECT_H
+
+#include "fix.h"
+#include <cstdio>
+#include <deque>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixReinject : public Fix {
+ public:
+  FixReinject(class LAMMPS *, int, char **);
+  ~FixReinject();
+  int setmask();
+  void init();
+  void end_of_step();
+  void pre_exchange();
+  double compute_vector(int);
+  void write_restart(FILE *);
+  void restart(char *);
+
+  // for fix clog: closes the current avalanche, returns its size (grains)
+  int close_avalanche();
+
+ private:
+  struct Sphere { double x[3]; double radius; };
+  struct Leaver { int tag; double radius; double mass; };
+
+  int axis;                    // 0, 1, 2: the vertical axis (gravity along -axis)
+  double exit_coordinate;      // a grain whose centre is below this has left
+  char *region_id;
+  class Region *region;        // where grains re-enter
+  class RanPark *random;
+  int max_attempts;
+  double rate_window;          // time over which the flow rate is averaged
+  FILE *record;                // one line per check with exits (rank 0)
+
+  // counts, kept across restarts
+  double grains_out;
+  double mass_out;
+  double avalanche;
+
+  // (time, grains_out, mass_out) at recent checks, for the flow rate
+  struct Sample { double time, grains, mass; };
+  std::deque<Sample> samples;
+
+  int count_local_leavers() const;
+  std::vector<Leaver> gather_leavers() const;
+  std::vector<Sphere> gather_spheres_near_region(double margin) const;
+  bool find_free_spot(double radius, const std::vector<Sphere> &occupied, double *spot);
+  void move_to(int tag, const double *spot);
+  void record_sample();
+  double rate(bool of_mass) const;
+  void parse_arguments(int narg, char **arg);
+  double force_number(const char *text, const char *keyword);
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,355 @@
+"""Analysis of the quasi-2D silo clogging records (Hidalgo et al. 2013,
+sections 3-5 and Table 1).
+
+Reads the records `fix clog` writes (contract: doc/silo2d_records.md):
+clogs.txt, arches.txt, contacts.txt and optionally silo.txt, and produces the
+PDFs of eta and phi, <F_n>/<F_t> versus phi, normal-force profiles versus
+height for the wall / intermediate / centre regions, the bulk reference
+<f_n,b>, force and mobilized-friction PDFs for arch and bulk, and Table 1.
+
+CLI:  python3 -m analysis.silo2d RECORD_DIR [--d D --mu MU --mass M ...] --out DIR
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy import stats
+
+from analysis.lammps_io import read_table
+
+# Paper's Table 1 (units of m g): mu -> ((fn_b, +-), (fn_a, +-)).
+PAPER_TABLE1 = {
+    0.2: ((24.0, 2.0), (44.0, 3.0)),
+    0.4: ((20.0, 1.0), (35.0, 3.0)),
+    0.8: ((21.0, 2.0), (32.0, 2.0)),
+}
+
+# Region limits in units of d, on |x| (silo centre at x = 0). The paper's
+# Fig. 1, which draws the regions, is not in the text we have; these defaults
+# split the 16 d half width into a centre strip as wide as the outlet region
+# (|x| < 4 d: the outlet grains' centres are at +-2 d), a wall strip of 4 d
+# and the intermediate band between them.
+CENTRE_MAX_D = 4.0
+WALL_MIN_D = 12.0
+# Bulk window of the paper (section 4): 27 < h/d < 48, both ends exclusive.
+BULK_H_MIN_D = 27.0
+BULK_H_MAX_D = 48.0
+
+REQUIRED_COLUMNS = {
+    "clogs.txt": ("clog", "step", "time", "avalanche", "eta", "status"),
+    "arches.txt": ("clog", "order", "id", "x", "y", "z", "phi", "fn", "ft"),
+    "contacts.txt": ("clog", "id1", "id2", "x", "z", "fn", "ft", "arch"),
+}
+
+
+# ---------------------------------------------------------------- statistics
+
+def bin_index(values, edges):
+    """Bin of each value, numpy.histogram's convention: bins [e_k, e_k+1)
+    except the last, which is closed [e_n-1, e_n]; -1 for values outside.
+    One convention for PDFs and binned means so their bins agree."""
+    values = np.asarray(values, dtype=float)
+    edges = np.asarray(edges, dtype=float)
+    index = np.searchsorted(edges, values, side="right") - 1
+    index[values == edges[-1]] = len(edges) - 2
+    index[(values < edges[0]) | (values > edges[-1]) | np.isnan(values)] = -1
+    return index
+
+
+def pdf(values, edges):
+    """Normalised histogram: returns (centres, density) with
+    sum(density * width) = 1 over the values inside the edges."""
+    edges = np.asarray(edges, dtype=float)
+    counts, _ = np.histogram(np.asarray(values, dtype=float), bins=edges)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    total = counts.sum()
+    if total == 0:
+        return centres, np.zeros(len(centres))
+    return centres, counts / (total * np.diff(edges))
+
+
+def integer_edges(values):
+    """Edges k - 1/2 .. k + 1/2 for every integer from min to max, so that each
+    integer value sits in the middle of its own unit-width bin."""
+    values = np.asarray(values)
+    if values.size == 0:
+        return np.array([-0.5, 0.5])
+    low, high = int(np.floor(values.min())), int(np.ceil(values.max()))
+    return np.arange(low, high + 2) - 0.5
+
+
+def integer_pdf(values):
+    """PDF of integer data (eta) on unit bins centred on the integers;
+    the density equals the fraction of samples with that value."""
+    return pdf(values, integer_edges(values))
+
+
+def binned_mean(x, y, edges):
+    """Mean of y in bins of x with its standard error std(ddof=1)/sqrt(n).
+    Returns (centres, mean, sem, count); mean is nan in empty bins and sem nan
+    where n < 2 (one sample says nothing about the scatter)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    nbins = len(edges) - 1
+    index = bin_index(x, edges)
+    mean = np.full(nbins, np.nan)
+    sem = np.full(nbins, np.nan)
+    count = np.zeros(nbins, dtype=int)
+    for k in range(nbins):
+        sample = y[index == k]
+        count[k] = sample.size
+        if sample.size:
+            mean[k] = sample.mean()
+        if sample.size > 1:
+            sem[k] = sample.std(ddof=1) / np.sqrt(sample.size)
+    centres = 0.5 * (np.asarray(edges[1:], float) + np.asarray(edges[:-1], float))
+    return centres, mean, sem, count
+
+
+def exponential_mean_ci(values, level=0.95):
+    """Mean and its confidence interval assuming exponential samples (the
+    paper's Table 1): 2 n xbar / theta ~ chi2(2n), hence
+    [2 n xbar / chi2_{1-a/2, 2n}, 2 n xbar / chi2_{a/2, 2n}]."""
+    values = np.asarray(values, dtype=float)
+    n = values.size
+    if n == 0:
+        return np.nan, np.nan, np.nan
+    mean = values.mean()
+    alpha = 1.0 - level
+    low = 2 * n * mean / stats.chi2.ppf(1 - alpha / 2, 2 * n)
+    high = 2 * n * mean / stats.chi2.ppf(alpha / 2, 2 * n)
+    return mean, low, high
+
+
+def mobilized_friction(fn, ft, mu):
+    """f_t / (mu f_n) for the contacts with f_n > 0 (a zero normal force has
+    no Coulomb threshold to compare with, so those entries are dropped)."""
+    fn = np.asarray(fn, dtype=float)
+    ft = np.asarray(ft, dtype=float)
+    keep = fn > 0
+    return ft[keep] / (mu * fn[keep])
+
+
+# ---------------------------------------------------------------- selections
+
+def region_of(x, d, centre_max=CENTRE_MAX_D, wall_min=WALL_MIN_D):
+    """Region label per point from |x|/d: 'C' if |x|/d < centre_max,
+    'W' if |x|/d >= wall_min, else 'I' (so a point on a boundary belongs to
+    the region farther from the centre)."""
+    distance = np.abs(np.asarray(x, dtype=float)) / d
+    labels = np.full(distance.shape, "I", dtype="<U1")
+    labels[distance < centre_max] = "C"
+    labels[distance >= wall_min] = "W"
+    return labels
+
+
+def bulk_mask(x, z, d, h_min=BULK_H_MIN_D, h_max=BULK_H_MAX_D,
+              centre_max=CENTRE_MAX_D, wall_min=WALL_MIN_D):
+    """Contacts of the paper's bulk: central or intermediate region and
+    h_min < h/d < h_max (both ends exclusive, as the paper writes it)."""
+    h = np.asarray(z, dtype=float) / d
+    inner = region_of(x, d, centre_max, wall_min) != "W"
+    return inner & (h > h_min) & (h < h_max)
+
+
+def force_profiles(x, z, fn, d, bin_width_d=1.0, centre_max=CENTRE_MAX_D,
+                   wall_min=WALL_MIN_D):
+    """Mean normal force versus h/d per region: dict region ->
+    (centres, mean, sem, count), bins of bin_width_d from h = 0."""
+    h = np.asarray(z, dtype=float) / d
+    top = max(bin_width_d, np.ceil(h.max() / bin_width_d) * bin_width_d) if h.size else bin_width_d
+    edges = np.arange(0.0, top + 0.5 * bin_width_d, bin_width_d)
+    labels = region_of(x, d, centre_max, wall_min)
+    fn = np.asarray(fn, dtype=float)
+    return {name: binned_mean(h[labels == name], fn[labels == name], edges)
+            for name in ("W", "I", "C")}
+
+
+# ---------------------------------------------------------------- records
+
+def read_records(record_dir):
+    """The three tables as dicts of arrays; missing columns are an error
+    naming the file, so a wrong fix clog output fails loudly."""
+    record_dir = Path(record_dir)
+    tables = {}
+    for name, columns in REQUIRED_COLUMNS.items():
+        table = read_table(record_dir / name)
+        missing = [c for c in columns if c not in table]
+        if missing:
+            raise ValueError(f"{record_dir / name}: missing columns {missing}")
+        tables[name.split(".")[0]] = table
+    return tables
+
+
+def read_silo(path):
+    """silo.txt: `key value` lines (d, half_width, mass, g, mu, R); '#' comments."""
+    values = {}
+    for line in Path(path).read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            key, value = line.split()[:2]
+            values[key] = float(value)
+    return values
+
+
+def table1(fn_bulk, fn_arch, mass, g, mu):
+    """Rows of Table 1 in units of m g: (label, mean, low, high, n, paper)."""
+    weight = mass * g
+    paper = PAPER_TABLE1.get(round(mu, 3))
+    rows = []
+    for k, (label, values) in enumerate((("<fn_b>", fn_bulk), ("<fn_a>", fn_arch))):
+        mean, low, high = exponential_mean_ci(np.asarray(values) / weight)
+        rows.append((label, mean, low, high, len(values), paper[k] if paper else None))
+    return rows
+
+
+def table1_markdown(rows, mu):
+    lines = [f"Table 1 (Hidalgo et al. 2013), mu = {mu:g}, forces in units of m g;",
+             "95 % CI of the mean of an exponential distribution "
+             "[2n xbar/chi2(0.975,2n), 2n xbar/chi2(0.025,2n)].", "",
+             "| quantity | this run | 95 % CI | n | paper |",
+             "|---|---|---|---|---|"]
+    for label, mean, low, high, n, paper in rows:
+        reference = f"{paper[0]:g} ± {paper[1]:g}" if paper else "—"
+        lines.append(f"| {label} | {mean:.3f} | [{low:.3f}, {high:.3f}] | {n} | {reference} |")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------- plots
+
+def _axes(title, xlabel, ylabel):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.set_title(title)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    return fig, ax
+
+
+def _save(fig, path):
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def plot_all(out, eta, R, phi, arches, contacts, bulk, fn_b, mu, d, phi_bin):
+    """The PNGs of figures 2-8 of the paper; returns the list of files."""
+    files = []
+    centres, density = integer_pdf(eta)
+    fig, ax = _axes("PDF of eta", "eta", "PDF")
+    ax.plot(centres, density, "o-")
+    ax.axvline(R + 2, ls=":", color="k", label=f"R+2 = {R + 2:g}")
+    ax.legend()
+    files.append(out / "eta_pdf.png"); _save(fig, files[-1])
+
+    edges = np.arange(0.0, 360.0 + phi_bin, phi_bin)
+    centres, density = pdf(phi, edges)
+    fig, ax = _axes("PDF of phi", "phi (deg)", "PDF")
+    ax.plot(centres, density, "o-")
+    ax.axvline(180.0, ls=":", color="k")
+    files.append(out / "phi_pdf.png"); _save(fig, files[-1])
+
+    fig, ax = _axes("arch forces vs phi", "phi (deg)", "<F> (N)")
+    for name, label in (("fn", "<F_n>"), ("ft", "<F_t>")):
+        c, mean, sem, _ = binned_mean(arches["phi"], arches[name], edges)
+        ax.errorbar(c, mean, yerr=sem, fmt="o-", label=label)
+    ax.legend()
+    files.append(out / "force_vs_phi.png"); _save(fig, files[-1])
+
+    fig, ax = _axes("normal-force profiles", "h/d", "<f_n> (N)")
+    for name, (c, mean, sem, _) in force_profiles(contacts["x"], contacts["z"], contacts["fn"], d).items():
+        ax.errorbar(c, mean, yerr=sem, fmt=".-", label=name)
+    for h in (BULK_H_MIN_D, BULK_H_MAX_D):
+        ax.axvline(h, ls=":", color="k")
+    ax.legend()
+    files.append(out / "fn_profiles.png"); _save(fig, files[-1])
+
+    for name, label in (("fn", "f_n"), ("ft", "f_t")):
+        fig, ax = _axes(f"PDF of {label}/<f_n,b>", f"{label}/<f_n,b>", "PDF")
+        for sample, tag in ((arches[name], "arch"), (contacts[name][bulk], "bulk")):
+            ratio = np.asarray(sample) / fn_b
+            if ratio.size:
+                c, density = pdf(ratio, np.linspace(0.0, max(ratio.max(), 1e-12), 21))
+                ax.semilogy(c, np.where(density > 0, density, np.nan), "o-", label=tag)
+        ax.legend()
+        files.append(out / f"{name}_pdf.png"); _save(fig, files[-1])
+
+    fig, ax = _axes("mobilized friction", "f_t/(mu f_n)", "PDF")
+    for fn, ft, tag in ((arches["fn"], arches["ft"], "arch"),
+                        (contacts["fn"][bulk], contacts["ft"][bulk], "bulk")):
+        c, density = pdf(np.minimum(mobilized_friction(fn, ft, mu), 1.0), np.linspace(0, 1, 21))
+        ax.plot(c, density, "o-", label=tag)
+    ax.legend()
+    files.append(out / "mobilized_friction.png"); _save(fig, files[-1])
+    return files
+
+
+# ---------------------------------------------------------------- CLI
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("record_dir", type=Path)
+    parser.add_argument("--out", type=Path, default=None, help="output directory (default RECORD_DIR/analysis)")
+    parser.add_argument("--silo", type=Path, default=None, help="geometry file (default RECORD_DIR/silo.txt if present)")
+    parser.add_argument("--d", type=float, help="grain diameter (m); default 1/32")
+    parser.add_argument("--mu", type=float, help="friction coefficient")
+    parser.add_argument("--mass", type=float, help="grain mass (kg); default rho pi d^3/6")
+    parser.add_argument("--rho", type=float, help="grain density (kg/m^3); default 7580")
+    parser.add_argument("--g", type=float, help="gravity (m/s^2); default 10")
+    parser.add_argument("--R", type=float, help="outlet size in d; default 3")
+    parser.add_argument("--half-width", dest="half_width", type=float, help="silo half width (m); default 16 d")
+    parser.add_argument("--phi-bin", dest="phi_bin", type=float, default=10.0, help="phi bin width (deg)")
+    return parser.parse_args(argv)
+
+
+def resolve_geometry(args):
+    """Command-line values override silo.txt, which overrides the paper's."""
+    silo_path = args.silo or args.record_dir / "silo.txt"
+    geometry = {"d": 1.0 / 32, "g": 10.0, "R": 3.0, "rho": 7580.0}
+    if silo_path.exists():
+        geometry.update(read_silo(silo_path))
+    for key in ("d", "mu", "mass", "rho", "g", "R", "half_width"):
+        if getattr(args, key) is not None:
+            geometry[key] = getattr(args, key)
+    if "mu" not in geometry:
+        raise SystemExit("error: mu is needed (--mu or 'mu' in silo.txt)")
+    geometry.setdefault("mass", geometry["rho"] * np.pi * geometry["d"] ** 3 / 6)
+    geometry.setdefault("half_width", 16 * geometry["d"])
+    return geometry
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    geo = resolve_geometry(args)
+    out = args.out or args.record_dir / "analysis"
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"silo2d: reading records in {args.record_dir}", flush=True)
+    tables = read_records(args.record_dir)
+    clogs, arches, contacts = tables["clogs"], tables["arches"], tables["contacts"]
+    eta = clogs["eta"][clogs["status"] == 1]
+    print(f"silo2d: {len(clogs['clog'])} clogs, {eta.size} with an arch, "
+          f"{arches['id'].size} arch grains, {contacts['fn'].size} contacts", flush=True)
+    bulk = bulk_mask(contacts["x"], contacts["z"], geo["d"])
+    if not bulk.any():
+        raise SystemExit("error: no contact in the bulk window 27 < h/d < 48 of regions C and I")
+    fn_b = contacts["fn"][bulk].mean()
+    print(f"silo2d: <f_n,b> = {fn_b:.6g} N over {bulk.sum()} bulk contacts", flush=True)
+    rows = table1(contacts["fn"][bulk], arches["fn"], geo["mass"], geo["g"], geo["mu"])
+    text = table1_markdown(rows, geo["mu"])
+    (out / "table1.md").write_text(text)
+    print(text, flush=True)
+    print("silo2d: plotting", flush=True)
+    files = plot_all(out, eta, geo["R"], arches["phi"], arches, contacts, bulk, fn_b,
+                     geo["mu"], geo["d"], args.phi_bin)
+    print(f"silo2d: wrote {out / 'table1.md'} and {len(files)} PNGs in {out}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -27,7 +27,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <map>
 #include <sstream>
 #include <string>
 
@@ -205,11 +204,16 @@ void FixReinject::init()
 
 /* ---------------------------------------------------------------------- */
 
+bool FixReinject::is_leaver(int i) const
+{
+  return (atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate;
+}
+
 int FixReinject::count_local_leavers() const
 {
   int count = 0;
   for (int i = 0; i < atom->nlocal; ++i)
-    if ((atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate) ++count;
+    if (is_leaver(i)) ++count;
   return count;
 }
 
@@ -231,7 +235,7 @@ std::vector<FixReinject::Leaver> FixReinject::gather_leavers() const
 {
   std::vector<double> local;
   for (int i = 0; i < atom->nlocal; ++i)
-    if ((atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate) {
+    if (is_leaver(i)) {
       local.push_back(atom->tag[i]);
       local.push_back(atom->radius[i]);
       local.push_back(atom->rmass[i]);
@@ -299,16 +303,16 @@ bool FixReinject::find_free_spot(double radius, const std::vector<Sphere> &occup
 
 /* ---------------------------------------------------------------------- */
 
-void FixReinject::move_to(int tag, const double *spot)
+void FixReinject::move_local_grains(const std::map<int, Sphere> &spots)
 {
   for (int i = 0; i < atom->nlocal; ++i) {
-    if (atom->tag[i] != tag) continue;
+    const std::map<int, Sphere>::const_iterator found = spots.find(atom->tag[i]);
+    if (found == spots.end()) continue;
     for (int k = 0; k < 3; ++k) {
-      atom->x[i][k] = spot[k];
+      atom->x[i][k] = found->second.x[k];
       atom->v[i][k] = 0.0;
       atom->omega[i][k] = 0.0;
     }
-    return;
   }
 }
 
@@ -329,6 +333,7 @@ void FixReinject::pre_exchange()
   MPI_Allreduce(&largest_local, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
   std::vector<Sphere> occupied = gather_spheres_near_region(2.0*largest);
 
+  std::map<int, Sphere> spots;
   for (size_t n = 0; n < leavers.size(); ++n) {
     Sphere placed;
     placed.radius = leavers[n].radius;
@@ -339,11 +344,12 @@ void FixReinject::pre_exchange()
       error->fix_error(FLERR, this, message.str().c_str());
     }
     occupied.push_back(placed);
-    move_to(leavers[n].tag, placed.x);
+    spots[leavers[n].tag] = placed;
     grains_out += 1.0;
     mass_out += leavers[n].mass;
     avalanche += 1.0;
   }
+  move_local_grains(spots);
 
   if (record) {
     fprintf(record, BIGINT_FORMAT " %.15g %.0f %.15g %.0f\n", update->ntimestep,

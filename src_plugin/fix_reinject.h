@@ -19,6 +19,7 @@ FixStyle(reinject,FixReinject)
 #include "fix.h"
 #include <cstdio>
 #include <deque>
+#include <map>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -60,11 +61,12 @@ class FixReinject : public Fix {
   struct Sample { double time, grains, mass; };
   std::deque<Sample> samples;
 
+  bool is_leaver(int i) const;
   int count_local_leavers() const;
   std::vector<Leaver> gather_leavers() const;
   std::vector<Sphere> gather_spheres_near_region(double margin) const;
   bool find_free_spot(double radius, const std::vector<Sphere> &occupied, double *spot);
-  void move_to(int tag, const double *spot);
+  void move_local_grains(const std::map<int, Sphere> &spots);
   void record_sample();
   double rate(bool of_mass) const;
   void parse_arguments(int narg, char **arg);

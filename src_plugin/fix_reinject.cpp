@@ -21,6 +21,7 @@
 #include "error.h"
 #include "random_park.h"
 #include "region.h"
+#include "silokit_mpi.h"
 #include "update.h"
 
 #include <algorithm>
@@ -34,20 +35,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 namespace {
-
-// All ranks' values, concatenated in rank order.
-std::vector<double> allgather(const std::vector<double> &local, MPI_Comm world, int nprocs)
-{
-  const int count = static_cast<int>(local.size());
-  std::vector<int> counts(nprocs), offsets(nprocs, 0);
-  MPI_Allgather(const_cast<int *>(&count), 1, MPI_INT, &counts[0], 1, MPI_INT, world);
-  for (int p = 1; p < nprocs; ++p) offsets[p] = offsets[p-1] + counts[p-1];
-  std::vector<double> all(offsets[nprocs-1] + counts[nprocs-1] + 1);  // +1: never empty
-  MPI_Allgatherv(count ? const_cast<double *>(&local[0]) : NULL, count, MPI_DOUBLE,
-                 &all[0], &counts[0], &offsets[0], MPI_DOUBLE, world);
-  all.pop_back();
-  return all;
-}
 
 bool overlaps(const double *centre, double radius, const double *other_centre, double other_radius)
 {
@@ -209,6 +196,11 @@ bool FixReinject::is_leaver(int i) const
   return (atom->mask[i] & groupbit) && atom->x[i][axis] < exit_coordinate;
 }
 
+bool FixReinject::is_requested(int i) const
+{
+  return !requested.empty() && requested.count(atom->tag[i]) > 0;
+}
+
 int FixReinject::count_local_leavers() const
 {
   int count = 0;
@@ -234,16 +226,18 @@ void FixReinject::end_of_step()
 std::vector<FixReinject::Leaver> FixReinject::gather_leavers() const
 {
   std::vector<double> local;
-  for (int i = 0; i < atom->nlocal; ++i)
-    if (is_leaver(i)) {
-      local.push_back(atom->tag[i]);
-      local.push_back(atom->radius[i]);
-      local.push_back(atom->rmass[i]);
-    }
-  const std::vector<double> all = allgather(local, world, comm->nprocs);
+  for (int i = 0; i < atom->nlocal; ++i) {
+    const bool left = is_leaver(i);
+    if (!left && !is_requested(i)) continue;
+    local.push_back(atom->tag[i]);
+    local.push_back(atom->radius[i]);
+    local.push_back(atom->rmass[i]);
+    local.push_back(left ? 1.0 : 0.0);
+  }
+  const std::vector<double> all = silokit::allgather(local, world);
   std::vector<Leaver> leavers;
-  for (size_t k = 0; k + 2 < all.size(); k += 3) {
-    Leaver leaver = { static_cast<int>(all[k]), all[k+1], all[k+2] };
+  for (size_t k = 0; k + 3 < all.size(); k += 4) {
+    Leaver leaver = { static_cast<int>(all[k]), all[k+1], all[k+2], all[k+3] != 0.0 };
     leavers.push_back(leaver);
   }
   // the same order on every rank, whatever the decomposition
@@ -271,7 +265,7 @@ std::vector<FixReinject::Sphere> FixReinject::gather_spheres_near_region(double 
     local.insert(local.end(), x, x + 3);
     local.push_back(atom->radius[i]);
   }
-  const std::vector<double> all = allgather(local, world, comm->nprocs);
+  const std::vector<double> all = silokit::allgather(local, world);
   std::vector<Sphere> spheres;
   for (size_t k = 0; k + 3 < all.size(); k += 4) {
     Sphere sphere = { { all[k], all[k+1], all[k+2] }, all[k+3] };
@@ -326,6 +320,7 @@ void FixReinject::pre_exchange()
   next_reneighbor = -1;
 
   const std::vector<Leaver> leavers = gather_leavers();
+  requested.clear();
   if (leavers.empty()) return;
 
   double largest_local = 0.0, largest = 0.0;
@@ -345,6 +340,7 @@ void FixReinject::pre_exchange()
     }
     occupied.push_back(placed);
     spots[leavers[n].tag] = placed;
+    if (!leavers[n].left_through_exit) continue;
     grains_out += 1.0;
     mass_out += leavers[n].mass;
     avalanche += 1.0;
@@ -387,6 +383,12 @@ int FixReinject::close_avalanche()
   const int size = static_cast<int>(avalanche);
   avalanche = 0.0;
   return size;
+}
+
+void FixReinject::request_reinjection(const std::vector<int> &tags)
+{
+  requested.insert(tags.begin(), tags.end());
+  if (!requested.empty()) next_reneighbor = update->ntimestep + 1;
 }
 
 /* ----------------------------------------------------------------------

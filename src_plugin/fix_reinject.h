@@ -20,6 +20,7 @@ FixStyle(reinject,FixReinject)
 #include <cstdio>
 #include <deque>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -38,10 +39,15 @@ class FixReinject : public Fix {
 
   // for fix clog: closes the current avalanche, returns its size (grains)
   int close_avalanche();
+  // for fix clog: the grains with these tags re-enter at the top on the
+  // next step, like grains that left, but are not counted as out. Every
+  // rank must pass the same tags.
+  void request_reinjection(const std::vector<int> &tags);
+  int vertical_axis() const { return axis; }
 
  private:
   struct Sphere { double x[3]; double radius; };
-  struct Leaver { int tag; double radius; double mass; };
+  struct Leaver { int tag; double radius; double mass; bool left_through_exit; };
 
   int axis;                    // 0, 1, 2: the vertical axis (gravity along -axis)
   double exit_coordinate;      // a grain whose centre is below this has left
@@ -51,6 +57,7 @@ class FixReinject : public Fix {
   int max_attempts;
   double rate_window;          // time over which the flow rate is averaged
   FILE *record;                // one line per check with exits (rank 0)
+  std::set<int> requested;     // tags to re-enter without being counted
 
   // counts, kept across restarts
   double grains_out;
@@ -62,6 +69,7 @@ class FixReinject : public Fix {
   std::deque<Sample> samples;
 
   bool is_leaver(int i) const;
+  bool is_requested(int i) const;
   int count_local_leavers() const;
   std::vector<Leaver> gather_leavers() const;
   std::vector<Sphere> gather_spheres_near_region(double margin) const;

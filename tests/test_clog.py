@@ -1,0 +1,197 @@
+"""fix clog on hand-built scenes.
+
+A frozen arch: grains placed by hand over an outlet between two base
+grains, with one defect, and a grain resting on the arch. None of the
+grains is integrated, so the scene is exactly at rest (Ec = 0) and the
+contacts are exactly as built: every expected record (which grains, in
+which order, the angles, the contact points, the forces k_n * delta of a
+contact without motion or tangential history) is computed here from the
+construction, independently of the fix.
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analysis.deck_blocks import granular_setup, hooke_materials
+from analysis.lammps_io import read_table
+from conftest import LiggghtsError, has_mpirun
+
+ROOT = Path(__file__).resolve().parent.parent
+D = 0.01
+R = D / 2
+KN = 1.0e4
+DENSITY = 2500.0
+G = 9.81
+STEP = 0.99 * D            # centre distance along the arch: overlap 0.01 d
+TOP_STEP = 0.98 * D        # the grain on the arch presses harder on one member
+
+
+def arch_scene():
+    """Base grains (left, right), the walk from left foot to right foot,
+    and the extra grain on top; positions (x, z) in the plane y = 0.
+
+    The arch: headings of the four steps between feet and members are
+    a1 = 64.18, a2 = -20, a3 = 10, a4 = -47.11 degrees, chosen so that the
+    chain closes from a foot resting at 60 degrees on the left outlet grain
+    to its mirror on the right. The member angle is phi = 180 + (a_next -
+    a_previous): 95.8 (regular), 210 (the defect), 122.9 (regular)."""
+    base = [(-(2 + k) * D, -R) for k in range(4)] + [((2 + k) * D, -R) for k in range(4)]
+    left_foot = np.array([-2 * D + STEP * math.cos(math.radians(60)),
+                          -R + STEP * math.sin(math.radians(60))])
+    a2, a3 = math.radians(-20.0), math.radians(10.0)
+    # the first and last headings close the chain on the mirror foot
+    span = 2 * abs(left_foot[0]) / STEP - math.cos(a2) - math.cos(a3)
+    rise = -(math.sin(a2) + math.sin(a3))
+    mean = math.atan2(rise, span)
+    half = math.acos(span / (2 * math.cos(mean)))
+    headings = [mean + half, a2, a3, mean - half]
+    walk = [left_foot]
+    for heading in headings:
+        walk.append(walk[-1] + STEP * np.array([math.cos(heading), math.sin(heading)]))
+    # the top grain: TOP_STEP from member 1, STEP from member 2, above them
+    m1, m2 = walk[1], walk[2]
+    gap = np.linalg.norm(m2 - m1)
+    along = (TOP_STEP**2 - STEP**2 + gap**2) / (2 * gap)
+    height = math.sqrt(TOP_STEP**2 - along**2)
+    unit = (m2 - m1) / gap
+    top = m1 + along * unit + height * np.array([-unit[1], unit[0]])
+    return base, walk, top
+
+
+def lower_side_phi(previous, at, following):
+    """Counter-clockwise from the direction of `previous` to that of
+    `following`, seen from `at`, in degrees in [0, 360)."""
+    a = math.atan2(previous[1] - at[1], previous[0] - at[0])
+    b = math.atan2(following[1] - at[1], following[0] - at[0])
+    return math.degrees(b - a) % 360.0
+
+
+def clog_deck(fix_options="action stop", processors="", atoms_order=None):
+    """Atom ids: base 1-8, then the walk (feet and members) 9-13, top 14.
+    atoms_order permutes the creation order (ids follow creation)."""
+    base, walk, top = arch_scene()
+    points = [(x, z, "base") for x, z in base] + [(x, z, "free") for x, z in walk] + \
+             [(top[0], top[1], "free")]
+    creates = "\n".join(f"create_atoms 1 single {x!r} 0.0 {z!r} units box" for x, z, _ in points)
+    base_ids = " ".join(str(i + 1) for i in range(len(base)))
+    free_ids = f"{len(base) + 1}:{len(points)}"
+    return f"""
+{granular_setup()}
+{processors}
+region box block -0.06 0.06 -0.01 0.01 -0.05 0.1 units box
+create_box 1 box
+neighbor 0.001 bin
+neigh_modify delay 0
+{hooke_materials(KN, KN * 2 / 7, gamman=0.0, gammat=0.0, mu=0.5)}
+pair_style gran model hooke/stiffness tangential history
+pair_coeff * *
+timestep 1e-5
+{creates}
+set group all diameter {D} density {DENSITY}
+group base id {base_ids}
+group grains id {free_ids}
+fix gravity all gravity {G} vector 0 0 -1
+region top block -0.04 0.04 -0.005 0.005 0.06 0.09 units box
+fix reinject grains reinject exit z -0.03 region top seed 15485863 every 10
+fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 every 10 quiet_time 0.001 {fix_options}
+variable done equal f_clog[3]
+variable chunk_steps equal 50
+variable max_chunks equal 20
+thermo_style custom step time f_clog[1] f_clog[2] f_clog[3] f_clog[4]
+thermo 50
+include {ROOT}/inputs/run_until_done.in
+variable steps_run equal step
+print "steps run: ${{steps_run}}"
+"""
+
+
+def expected_records():
+    base, walk, top = arch_scene()
+    positions = {i + 1: p for i, p in enumerate(base)}
+    positions.update({len(base) + 1 + k: p for k, p in enumerate(walk)})
+    top_id = len(base) + len(walk) + 1
+    positions[top_id] = top
+    feet = (len(base) + 1, len(base) + len(walk))
+    members = list(range(feet[0] + 1, feet[1]))
+    contacts = []
+    ids = sorted(positions)
+    for a in ids:
+        for b in ids:
+            if a >= b or (a <= len(base) and b <= len(base)):
+                continue
+            distance = np.linalg.norm(np.array(positions[a]) - np.array(positions[b]))
+            if distance < D:
+                delta = D - distance
+                unit = (np.array(positions[b]) - np.array(positions[a])) / distance
+                point = np.array(positions[a]) + unit * (R - delta / 2)
+                contacts.append((a, b, point[0], point[1], KN * delta))
+    return positions, members, contacts
+
+
+def test_scene_is_what_the_docstring_says():
+    """The construction itself: overlaps 0.01 d along the walk, 0.02 d from
+    the top grain to member 1, no other contact, members off the base."""
+    positions, members, contacts = expected_records()
+    pairs = {(a, b): fn for a, b, _, _, fn in contacts}
+    assert set(pairs) == {(1, 9), (9, 10), (10, 11), (11, 12), (12, 13),
+                          (5, 13), (10, 14), (11, 14)}
+    assert pairs[(10, 14)] == pytest.approx(KN * 0.02 * D, rel=1e-9)
+    assert pairs[(9, 10)] == pytest.approx(KN * 0.01 * D, rel=1e-9)
+    phis = [lower_side_phi(positions[m - 1], positions[m], positions[m + 1]) for m in members]
+    assert phis == pytest.approx([95.8, 210.0, 122.9], abs=0.1)
+
+
+def check_records(workdir):
+    positions, members, contacts = expected_records()
+    clogs = read_table(workdir / "clogs.txt")
+    assert list(clogs["clog"]) == [1]
+    assert list(clogs["status"]) == [1]
+    assert list(clogs["eta"]) == [3]
+    assert list(clogs["avalanche"]) == [0]
+    # detected at the first check with quiet_time 0.001 s behind it
+    assert clogs["time"][0] == pytest.approx(0.001, abs=1e-12)
+
+    arches = read_table(workdir / "arches.txt")
+    assert list(arches["id"]) == members
+    assert list(arches["order"]) == [1, 2, 3]
+    expected_phi = [lower_side_phi(positions[m - 1], positions[m], positions[m + 1]) for m in members]
+    np.testing.assert_allclose(arches["phi"], expected_phi, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(arches["x"], [positions[m][0] for m in members], rtol=0, atol=1e-13)
+    # z above the bottom surface, the top of the base grains (centres at -r)
+    np.testing.assert_allclose(arches["z"], [positions[m][1] for m in members], rtol=0, atol=1e-13)
+    for row, member in enumerate(members):
+        own = [fn for a, b, _, _, fn in contacts if member in (a, b)]
+        assert arches["fn"][row] == pytest.approx(np.mean(own), rel=1e-6)
+        # no tangential spring: only the rounding of "total minus normal part"
+        assert arches["ft"][row] < 1e-12
+
+    table = read_table(workdir / "contacts.txt")
+    assert [(int(a), int(b)) for a, b in zip(table["id1"], table["id2"])] == \
+           [(a, b) for a, b, *_ in contacts]
+    np.testing.assert_allclose(table["x"], [c[2] for c in contacts], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(table["z"], [c[3] for c in contacts], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(table["fn"], [c[4] for c in contacts], rtol=1e-6)
+    assert np.all(table["ft"] < 1e-12)
+    in_arch = [int(a in members and b in members) for a, b, *_ in contacts]
+    np.testing.assert_array_equal(table["arch"], in_arch)
+    return clogs, arches, table
+
+
+def test_frozen_arch_with_a_defect_is_found_exactly(run, tmp_path):
+    output = run(clog_deck())
+    check_records(tmp_path)
+    assert "fix clog clog: clog 1 at t = 0.001 s (step 100), avalanche 0 grains, arch of 3 grains" in output
+    # the deck's loop stopped at the chunk in which the flag was raised
+    assert "steps run: 100" in output
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
+def test_frozen_arch_same_records_on_two_ranks(run, tmp_path):
+    """The processor boundary x = 0 cuts the arch between members 2 and 3."""
+    run(clog_deck(processors="processors 2 1 1"), nprocs=2)
+    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+        assert (tmp_path / name).exists()
+    check_records(tmp_path)

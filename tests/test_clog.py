@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_table
+from analysis.lammps_io import read_dump, read_table
 from conftest import LiggghtsError, has_mpirun
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -94,7 +94,7 @@ set group all diameter {D} density {DENSITY}
 group base id {base_ids}
 group grains id {free_ids}
 fix gravity all gravity {G} vector 0 0 -1
-region top block -0.04 0.04 -0.005 0.005 0.06 0.09 units box
+region top block -0.04 0.04 -0.01 0.01 0.06 0.09 units box
 fix reinject grains reinject exit z -0.03 region top seed 15485863 every 10
 fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 every 10 quiet_time 0.001 {fix_options}
 variable done equal f_clog[3]
@@ -195,3 +195,92 @@ def test_frozen_arch_same_records_on_two_ranks(run, tmp_path):
     for name in ("clogs.txt", "arches.txt", "contacts.txt"):
         assert (tmp_path / name).exists()
     check_records(tmp_path)
+
+
+def read_final_positions(path):
+    """id -> (x, y, z) from the one-frame dump written at the end."""
+    _, frame = read_dump(path)[-1]
+    return {int(i): (x, y, z) for i, x, y, z in zip(frame["id"], frame["x"], frame["y"], frame["z"])}
+
+
+def test_break_moves_the_arch_to_the_top_and_goes_on(run, tmp_path):
+    """action break: the three members re-enter in the injection region
+    without overlap; what is left over the outlet (the feet and the top
+    grain) blocks nothing, so the next check finds no arch (status -1) and
+    clears the outlet zone; the flag is never raised (2 arches wanted), so
+    the loop ends after max_chunks chunks."""
+    deck = clog_deck(fix_options="action break arches 2").replace(
+        'print "steps run', 'dump final all custom 1 final.dump id x y z\nrun 0\nprint "steps run')
+    output = run(deck)
+    clogs = read_table(tmp_path / "clogs.txt")
+    assert list(clogs["status"][:2]) == [1, -1]
+    assert clogs["time"][1] == pytest.approx(0.002, abs=1e-12)  # quiet_time after the break
+    assert "no arch (no_start" in output
+    assert "steps run: 1000" in output
+
+    final = read_final_positions(tmp_path / "final.dump")
+    _, members, _ = expected_records()
+    moved = members + [9, 13, 14]     # the members at clog 1, the rest at clog 2
+    for tag in moved:
+        x, y, z = final[tag]
+        assert -0.04 + R <= x <= 0.04 - R and 0.06 + R <= z <= 0.09 - R
+    for a in moved:
+        for b in final:
+            if a != b:
+                assert np.linalg.norm(np.subtract(final[a], final[b])) >= D
+    # nothing was counted as out: the arch grains did not leave through the exit
+    assert list(clogs["avalanche"]) == [0] * len(clogs["avalanche"])
+
+
+FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 "
+            "every 10 quiet_time 0.001 action stop")
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("action stop", "action stop bogus 1", "unknown keyword 'bogus'"),
+    ("action stop", "action stop every", "keyword 'every' needs a value"),
+    ("reinject reinject ", "", "'reinject <fix-ID>' is required"),
+    ("base base ", "", "'base <group-ID>' is required"),
+    ("orifice 0.0 ", "", "'orifice <x of the outlet centre>' is required"),
+    ("bottom 0.0 ", "", "'bottom <height of the silo bottom>' is required"),
+    ("base base", "base nowhere", "base group 'nowhere' does not exist"),
+    ("orifice 0.0", "orifice left", "'orifice' expects a number, got 'left'"),
+    ("every 10", "every 0", "'every' must be an integer >= 1"),
+    ("every 10", "every 2.5", "'every' must be an integer >= 1"),
+    ("quiet_time 0.001", "quiet_time 0", "'quiet_time' must be > 0"),
+    ("action stop", "action stop ratio -1", "'ratio' must be > 0"),
+    ("action stop", "action stop max_time -2", "'max_time' must be >= 0"),
+    ("action stop", "action halt", "'action' must be 'stop' or 'break'"),
+    ("action stop", "action stop arches 5", "'arches' needs 'action break'"),
+    ("action stop", "action break arches 0", "'arches' must be an integer >= 1"),
+    ("reinject reinject", "reinject gravity", "'reinject' names no fix reinject: 'gravity'"),
+    ("action stop", "action stop directory /nonexistent/dir",
+     "cannot write clogs.txt, arches.txt, contacts.txt in directory '/nonexistent/dir'"),
+    ("action stop", "action stop contacts nothing", "'contacts' names no compute pair/gran/local"),
+])
+def test_bad_input_is_a_clear_error(run, old, new, message):
+    assert old in FIX_LINE
+    deck = clog_deck().replace(FIX_LINE, FIX_LINE.replace(old, new, 1))
+    with pytest.raises(LiggghtsError) as error:
+        run(deck)
+    assert message in error.value.message
+
+
+@pytest.mark.parametrize("change, message", [
+    (("fix gravity all gravity 9.81 vector 0 0 -1", "fix gravity all gravity 9.81 vector 0 0 1"),
+     "gravity must point down the vertical axis of fix reinject"),
+    (("fix gravity all gravity 9.81 vector 0 0 -1\n", ""), "needs fix gravity"),
+    (("exit z -0.03", "exit x -0.05"), "must be normal to y or z"),
+    (("variable done equal", "run 10\nvariable done equal"), None),
+])
+def test_bad_scene_is_a_clear_error(run, change, message):
+    deck = clog_deck()
+    assert change[0] in deck
+    deck = deck.replace(change[0], change[1], 1)
+    if message is None:
+        # fix clog defined after a first run: its compute cannot be created
+        deck = deck.replace(FIX_LINE + "\n", "").replace("run 10\n", "run 10\n" + FIX_LINE + "\n")
+        message = "must be defined before the first run"
+    with pytest.raises(LiggghtsError) as error:
+        run(deck)
+    assert message in error.value.message

@@ -237,7 +237,8 @@ def _save(fig, path):
     plt.close(fig)
 
 
-def plot_all(out, eta, R, phi, arches, contacts, bulk, fn_b, mu, d, phi_bin):
+def plot_all(out, eta, R, phi, arches, contacts, bulk, fn_b, mu, d, phi_bin,
+             bulk_window=(BULK_H_MIN_D, BULK_H_MAX_D)):
     """The PNGs of figures 2-8 of the paper; returns the list of files."""
     files = []
     centres, density = integer_pdf(eta)
@@ -264,7 +265,7 @@ def plot_all(out, eta, R, phi, arches, contacts, bulk, fn_b, mu, d, phi_bin):
     fig, ax = _axes("normal-force profiles", "h/d", "<f_n> (N)")
     for name, (c, mean, sem, _) in force_profiles(contacts["x"], contacts["z"], contacts["fn"], d).items():
         ax.errorbar(c, mean, yerr=sem, fmt=".-", label=name)
-    for h in (BULK_H_MIN_D, BULK_H_MAX_D):
+    for h in bulk_window:
         ax.axvline(h, ls=":", color="k")
     ax.legend()
     files.append(out / "fn_profiles.png"); _save(fig, files[-1])
@@ -305,6 +306,10 @@ def parse_args(argv):
     parser.add_argument("--R", type=float, help="outlet size in d; default 3")
     parser.add_argument("--half-width", dest="half_width", type=float, help="silo half width (m); default 16 d")
     parser.add_argument("--phi-bin", dest="phi_bin", type=float, default=10.0, help="phi bin width (deg)")
+    parser.add_argument("--bulk", nargs=2, type=float, metavar=("HMIN", "HMAX"),
+                        default=(BULK_H_MIN_D, BULK_H_MAX_D),
+                        help="bulk window HMIN < h/d < HMAX (default: the paper's 27 48; "
+                             "a smaller silo needs a lower window)")
     return parser.parse_args(argv)
 
 
@@ -335,9 +340,11 @@ def main(argv=None):
     eta = clogs["eta"][clogs["status"] == 1]
     print(f"silo2d: {len(clogs['clog'])} clogs, {eta.size} with an arch, "
           f"{arches['id'].size} arch grains, {contacts['fn'].size} contacts", flush=True)
-    bulk = bulk_mask(contacts["x"], contacts["z"], geo["d"])
+    h_min, h_max = args.bulk
+    bulk = bulk_mask(contacts["x"], contacts["z"], geo["d"], h_min, h_max)
     if not bulk.any():
-        raise SystemExit("error: no contact in the bulk window 27 < h/d < 48 of regions C and I")
+        raise SystemExit(f"error: no contact in the bulk window {h_min:g} < h/d < {h_max:g} "
+                         "of regions C and I (set it with --bulk HMIN HMAX)")
     fn_b = contacts["fn"][bulk].mean()
     print(f"silo2d: <f_n,b> = {fn_b:.6g} N over {bulk.sum()} bulk contacts", flush=True)
     rows = table1(contacts["fn"][bulk], arches["fn"], geo["mass"], geo["g"], geo["mu"])
@@ -346,7 +353,7 @@ def main(argv=None):
     print(text, flush=True)
     print("silo2d: plotting", flush=True)
     files = plot_all(out, eta, geo["R"], arches["phi"], arches, contacts, bulk, fn_b,
-                     geo["mu"], geo["d"], args.phi_bin)
+                     geo["mu"], geo["d"], args.phi_bin, args.bulk)
     print(f"silo2d: wrote {out / 'table1.md'} and {len(files)} PNGs in {out}", flush=True)
     return 0
 

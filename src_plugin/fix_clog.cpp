@@ -30,6 +30,7 @@
 #include "group.h"
 #include "modify.h"
 #include "pair.h"
+#include "silokit_args.h"
 #include "silokit_mpi.h"
 #include "update.h"
 
@@ -108,31 +109,31 @@ void FixClog::parse_arguments(int narg, char **arg)
       delete [] base_group_id;
       base_group_id = copy_text(value);
     } else if (keyword == "orifice") {
-      orifice_centre = force_number(value, "orifice");
+      orifice_centre = silokit::keyword_number(this, error, value, "orifice");
       have_orifice = true;
     } else if (keyword == "bottom") {
-      bottom = force_number(value, "bottom");
+      bottom = silokit::keyword_number(this, error, value, "bottom");
       have_bottom = true;
     } else if (keyword == "every") {
-      const double every = force_number(value, "every");
+      const double every = silokit::keyword_number(this, error, value, "every");
       if (every < 1 || every != std::floor(every))
         error->fix_error(FLERR, this, "'every' must be an integer >= 1");
       nevery = static_cast<int>(every);
     } else if (keyword == "quiet_time") {
-      quiet_time = force_number(value, "quiet_time");
+      quiet_time = silokit::keyword_number(this, error, value, "quiet_time");
       if (!(quiet_time > 0.0)) error->fix_error(FLERR, this, "'quiet_time' must be > 0");
     } else if (keyword == "ratio") {
-      energy_ratio = force_number(value, "ratio");
+      energy_ratio = silokit::keyword_number(this, error, value, "ratio");
       if (!(energy_ratio > 0.0)) error->fix_error(FLERR, this, "'ratio' must be > 0");
     } else if (keyword == "max_time") {
-      max_time = force_number(value, "max_time");
+      max_time = silokit::keyword_number(this, error, value, "max_time");
       if (max_time < 0.0) error->fix_error(FLERR, this, "'max_time' must be >= 0 (0: no limit)");
     } else if (keyword == "action") {
       if (strcmp(value, "stop") == 0) break_arches = false;
       else if (strcmp(value, "break") == 0) break_arches = true;
       else error->fix_error(FLERR, this, "'action' must be 'stop' or 'break'");
     } else if (keyword == "arches") {
-      const double wanted = force_number(value, "arches");
+      const double wanted = silokit::keyword_number(this, error, value, "arches");
       if (wanted < 1 || wanted != std::floor(wanted))
         error->fix_error(FLERR, this, "'arches' must be an integer >= 1");
       arches_wanted = static_cast<int>(wanted);
@@ -162,19 +163,6 @@ void FixClog::parse_arguments(int narg, char **arg)
     error->fix_error(FLERR, this, message.c_str());
   }
   base_groupbit = group->bitmask[base_group];
-}
-
-/* ---------------------------------------------------------------------- */
-
-double FixClog::force_number(const char *text, const char *keyword)
-{
-  char *end = NULL;
-  const double value = strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value)) {
-    const std::string message = std::string("'") + keyword + "' expects a number, got '" + text + "'";
-    error->fix_error(FLERR, this, message.c_str());
-  }
-  return value;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -96,7 +96,6 @@ class FixClog : public Fix {
   FILE *clogs_file, *arches_file, *contacts_file;
 
   void parse_arguments(int narg, char **arg);
-  double force_number(const char *text, const char *keyword);
   void open_records();
   FILE *open_record(const char *name, const char *header);
   double kinetic_to_potential_ratio() const;

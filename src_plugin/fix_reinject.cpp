@@ -21,6 +21,7 @@
 #include "error.h"
 #include "random_park.h"
 #include "region.h"
+#include "silokit_args.h"
 #include "silokit_mpi.h"
 #include "update.h"
 
@@ -93,26 +94,26 @@ void FixReinject::parse_arguments(int narg, char **arg)
       else if (strcmp(value, "y") == 0) axis = 1;
       else if (strcmp(value, "z") == 0) axis = 2;
       else error->fix_error(FLERR, this, "'exit' takes an axis x, y or z, then a coordinate");
-      exit_coordinate = force_number(arg[iarg+2], "exit");
+      exit_coordinate = silokit::keyword_number(this, error, arg[iarg+2], "exit");
       have_exit = true;
     } else if (keyword == "region") {
       delete [] region_id;
       region_id = new char[strlen(value) + 1];
       strcpy(region_id, value);
     } else if (keyword == "seed") {
-      if (force_number(value, "seed") <= 0)
+      if (silokit::keyword_number(this, error, value, "seed") <= 0)
         error->fix_error(FLERR, this, "'seed' must be a positive integer");
       delete random;
       random = new RanPark(lmp, value);
       have_seed = true;
     } else if (keyword == "every") {
-      nevery = static_cast<int>(force_number(value, "every"));
+      nevery = static_cast<int>(silokit::keyword_number(this, error, value, "every"));
       if (nevery < 1) error->fix_error(FLERR, this, "'every' must be >= 1");
     } else if (keyword == "maxattempt") {
-      max_attempts = static_cast<int>(force_number(value, "maxattempt"));
+      max_attempts = static_cast<int>(silokit::keyword_number(this, error, value, "maxattempt"));
       if (max_attempts < 1) error->fix_error(FLERR, this, "'maxattempt' must be >= 1");
     } else if (keyword == "rate_window") {
-      rate_window = force_number(value, "rate_window");
+      rate_window = silokit::keyword_number(this, error, value, "rate_window");
       if (!(rate_window > 0.0)) error->fix_error(FLERR, this, "'rate_window' must be > 0");
     } else if (keyword == "file") {
       file_name = value;
@@ -140,19 +141,6 @@ void FixReinject::parse_arguments(int narg, char **arg)
     fprintf(record, "# step t n_out mass_out avalanche\n");
     fflush(record);
   }
-}
-
-/* ---------------------------------------------------------------------- */
-
-double FixReinject::force_number(const char *text, const char *keyword)
-{
-  char *end = NULL;
-  const double value = strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value)) {
-    std::string message = std::string("'") + keyword + "' expects a number, got '" + text + "'";
-    error->fix_error(FLERR, this, message.c_str());
-  }
-  return value;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -78,7 +78,6 @@ class FixReinject : public Fix {
   void record_sample();
   double rate(bool of_mass) const;
   void parse_arguments(int narg, char **arg);
-  double force_number(const char *text, const char *keyword);
 };
 
 }

@@ -125,11 +125,13 @@ namespace ContactModels
       const int jtype = sidata.jtype;
       const double * const normal = sidata.en;
 
-      // relative rotation rate, its twisting part removed
+      // relative rotation rate, its twisting part removed. A wall turns only
+      // when its fix says so (omega_j set, e.g. fix wall/gran/rotating);
+      // stock walls leave omega_j NULL.
       double relative_omega[3];
       for (int k = 0; k < 3; ++k)
-        relative_omega[k] = sidata.is_wall ? sidata.omega_i[k]
-                                           : sidata.omega_i[k] - sidata.omega_j[k];
+        relative_omega[k] = sidata.omega_j ? sidata.omega_i[k] - sidata.omega_j[k]
+                                           : sidata.omega_i[k];
       silokit::jiang::remove_normal_component(relative_omega, normal);
 
       const double contact_length = contactLength(sidata);

@@ -1,0 +1,334 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   fix wall/gran/rotating: see fix_wall_gran_rotating.h and
+   doc/fix_wall_gran_rotating.md.
+
+   How: the stock FixWallGran parses the contact model and a primitive
+   plane, registers the per-atom contact history (migrated with the atoms,
+   written to restart files) and keeps the list of grains near the plane.
+   This class only replaces the primitive-wall force loop: each grain of
+   that list is resolved against the plate with its hole
+   (orifice_plate.h), and the wall velocity handed to the contact model is
+   that of the plate at the contact point. Our own keywords are moved
+   behind the stock ones before FixWallGran sees the arguments, since it
+   refuses keywords it does not know.
+------------------------------------------------------------------------- */
+
+#include "fix_wall_gran_rotating.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "contact_interface.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_property_atom.h"
+#include "granular_wall.h"
+#include "math_const.h"
+#include "neighbor.h"
+#include "orifice_plate.h"
+#include "primitive_wall.h"
+#include "silokit_args.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace LIGGGHTS::ContactModels;
+
+namespace {
+
+// Values each of our keywords takes; -1 for a keyword that is not ours.
+int own_keyword_values(const char *keyword)
+{
+  static const char *names[] = {"orifice", "center", "axis", "omega", "frequency", "start"};
+  static const int values[] = {1, 3, 3, 1, 1, 1};
+  for (int k = 0; k < 6; ++k)
+    if (strcmp(keyword, names[k]) == 0) return values[k];
+  return -1;
+}
+
+const double UNIT_TOLERANCE = 1e-6;
+
+}  // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
+  FixWallGran(lmp, move_own_keywords_last(lmp, narg, arg), arg),
+  hole_radius(0.0), omega(0.0), start_time(0.0), reduced_step(-1)
+{
+  if (meshwall_ != 0 || !primitiveWall_)
+    error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
+  if (shear_)
+    error->fix_error(FLERR, this, "'shear' is not for this style: give 'omega' or 'frequency'");
+  read_plane(narg_, arg);
+  parse_own_keywords(narg_, narg, arg);
+  check_geometry();
+
+  vector_flag = 1;
+  size_vector = 4;
+  global_freq = 1;
+  extvector = -1;   // per element, extlist
+  extlist = new int[4];
+  extlist[0] = 0;   // angular velocity
+  extlist[1] = 1;   // axial force on the plate
+  extlist[2] = 1;   // torque on the plate about the axis
+  extlist[3] = 1;   // grains in contact
+  for (int k = 0; k < 3; ++k) local_sums[k] = global_sums[k] = 0.0;
+}
+
+FixWallGranRotating::~FixWallGranRotating()
+{
+  delete [] extlist;
+}
+
+/* ----------------------------------------------------------------------
+   Moves our keywords and their values behind all others, in place, and
+   returns how many arguments the stock FixWallGran is to read.
+------------------------------------------------------------------------- */
+
+int FixWallGranRotating::move_own_keywords_last(LAMMPS *lmp, int narg, char **arg)
+{
+  std::vector<char *> stock(arg, arg + (narg < 3 ? narg : 3)), own;
+  for (int i = 3; i < narg;) {
+    const int values = own_keyword_values(arg[i]);
+    if (values < 0) {
+      stock.push_back(arg[i++]);
+      continue;
+    }
+    if (i + values >= narg) {
+      const std::string message = std::string("Fix wall/gran/rotating (id ") + arg[0] +
+        "): keyword '" + arg[i] + "' needs " + (values == 1 ? "a value" : "three values");
+      lmp->error->all(FLERR, message.c_str());
+    }
+    own.insert(own.end(), arg + i, arg + i + values + 1);
+    i += values + 1;
+  }
+  const int nstock = static_cast<int>(stock.size());
+  for (int k = 0; k < nstock; ++k) arg[k] = stock[k];
+  for (size_t k = 0; k < own.size(); ++k) arg[nstock + k] = own[k];
+  return nstock;
+}
+
+/* ----------------------------------------------------------------------
+   The plate: the plane of the stock 'primitive type T xplane|yplane|zplane
+   c' arguments. Sets the default axis (+ normal) and centre (the origin's
+   projection on the plane).
+------------------------------------------------------------------------- */
+
+void FixWallGranRotating::read_plane(int nstock, char **arg)
+{
+  int normal = -1;
+  double coordinate = 0.0;
+  for (int i = 3; i + 4 < nstock; ++i) {
+    if (strcmp(arg[i], "primitive") != 0) continue;
+    const char *style = arg[i+3];
+    if (strcmp(style, "xplane") == 0) normal = 0;
+    else if (strcmp(style, "yplane") == 0) normal = 1;
+    else if (strcmp(style, "zplane") == 0) normal = 2;
+    else {
+      const std::string message = std::string("the primitive must be a plane (xplane, yplane, zplane), not '") +
+                                  style + "'";
+      error->fix_error(FLERR, this, message.c_str());
+    }
+    coordinate = silokit::keyword_number(this, error, arg[i+4], style);
+  }
+  if (normal < 0) error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
+  if (domain->dimension == 2 && normal == 2)
+    error->fix_error(FLERR, this, "in 2D the plate is an xplane or a yplane (the zplane is the plane of the simulation)");
+  for (int k = 0; k < 3; ++k) centre[k] = axis[k] = 0.0;
+  axis[normal] = 1.0;
+  centre[normal] = coordinate;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
+{
+  bool have_omega = false, have_frequency = false;
+  int normal = 0;
+  for (int k = 1; k < 3; ++k)
+    if (axis[k] != 0.0) normal = k;
+  for (int i = first; i < narg;) {
+    const std::string keyword(arg[i]);
+    const char *value = arg[i+1];
+    if (keyword == "orifice") {
+      const double diameter = silokit::keyword_number(this, error, value, "orifice");
+      if (diameter < 0.0) error->fix_error(FLERR, this, "'orifice' (the diameter) must be >= 0");
+      hole_radius = 0.5*diameter;
+    } else if (keyword == "center") {
+      // a point of the axis: only its position in the plane matters
+      for (int k = 0; k < 3; ++k)
+        if (k != normal) centre[k] = silokit::keyword_number(this, error, arg[i+1+k], "center");
+      silokit::keyword_number(this, error, arg[i+1+normal], "center");
+    } else if (keyword == "axis") {
+      double direction[3], length_squared = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        direction[k] = silokit::keyword_number(this, error, arg[i+1+k], "axis");
+        length_squared += direction[k]*direction[k];
+      }
+      if (std::fabs(std::sqrt(length_squared) - 1.0) > UNIT_TOLERANCE)
+        error->fix_error(FLERR, this, "'axis' must be a unit vector (length 1 within 1e-6)");
+      if (std::fabs(std::fabs(direction[normal]) - 1.0) > UNIT_TOLERANCE)
+        error->fix_error(FLERR, this, "'axis' must be normal to the plate: +-1 along the primitive plane's normal");
+      for (int k = 0; k < 3; ++k) axis[k] = k == normal ? (direction[k] > 0.0 ? 1.0 : -1.0) : 0.0;
+    } else if (keyword == "omega") {
+      omega = silokit::keyword_number(this, error, value, "omega");
+      if (omega < 0.0) error->fix_error(FLERR, this, "'omega' must be >= 0 (the sense of rotation is that of 'axis')");
+      have_omega = true;
+    } else if (keyword == "frequency") {
+      const double frequency = silokit::keyword_number(this, error, value, "frequency");
+      if (frequency < 0.0) error->fix_error(FLERR, this, "'frequency' must be >= 0 (the sense of rotation is that of 'axis')");
+      omega = 2.0*MathConst::MY_PI*frequency;
+      have_frequency = true;
+    } else if (keyword == "start") {
+      start_time = silokit::keyword_number(this, error, value, "start");
+      if (start_time < 0.0) error->fix_error(FLERR, this, "'start' (a simulated time) must be >= 0");
+    }
+    i += own_keyword_values(arg[i]) + 1;
+  }
+  if (have_omega && have_frequency)
+    error->fix_error(FLERR, this, "give either 'omega' or 'frequency', not both");
+}
+
+/* ----------------------------------------------------------------------
+   The hole must fit in the simulation box, and a 2D plate cannot rotate.
+------------------------------------------------------------------------- */
+
+void FixWallGranRotating::check_geometry()
+{
+  const bool two_d = domain->dimension == 2;
+  if (two_d && omega != 0.0)
+    error->fix_error(FLERR, this, "a 2D plate cannot rotate about its axis (omega x r would leave the plane): omega must be 0");
+  if (two_d && centre[2] != 0.0)
+    error->fix_error(FLERR, this, "in 2D the 'center' must have z = 0");
+  for (int k = 0; k < (two_d ? 2 : 3); ++k) {
+    if (axis[k] != 0.0) continue;
+    if (centre[k] - hole_radius < domain->boxlo[k] || centre[k] + hole_radius > domain->boxhi[k]) {
+      char message[256];
+      snprintf(message, sizeof(message),
+               "the orifice (diameter %g about %c = %g) does not fit in the simulation box "
+               "(%g to %g): the silo is narrower than its orifice",
+               2.0*hole_radius, "xyz"[k], centre[k], domain->boxlo[k], domain->boxhi[k]);
+      error->fix_error(FLERR, this, message);
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixWallGranRotating::init()
+{
+  FixWallGran::init();
+  if (!atom->radius_flag)
+    error->fix_error(FLERR, this, "needs per-atom radius (atom_style sphere or granular)");
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixWallGranRotating::angular_velocity() const
+{
+  return update->get_cur_time() >= start_time ? omega : 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   The primitive-wall force loop of FixWallGran (fix_wall_gran.cpp,
+   post_force_primitive) for the plate with a hole: the same neighbor list,
+   history and contact-model call, for spheres only (the stock loop's
+   superquadric and multicontact branches do not apply to this wall).
+------------------------------------------------------------------------- */
+
+void FixWallGranRotating::post_force_primitive(int)
+{
+  const int *mask = atom->mask;
+  double **force = atom->f;
+  double **torque = atom->torque;
+  double **history = dnum() > 0 ? fix_history_primitive_->array_atom : NULL;
+  // contact models may act on grains a little apart (surfacesClose), as in
+  // the stock loop
+  const double close_fraction = neighbor->contactDistanceFactor - 1.0;
+  const double spin = angular_velocity();
+  const bool summing = computeflag_ != 0;
+  if (summing) {
+    for (int k = 0; k < 3; ++k) local_sums[k] = 0.0;
+    reduced_step = -1;
+  }
+
+  // the plate's own angular velocity, for rolling models that take the
+  // relative rotation (rolling_friction jiang); stock ones treat every wall
+  // as not turning, which at a flat contact makes no difference (the
+  // spin about the normal is not rolling) but not at the rim
+  double plate_spin[3];
+  for (int k = 0; k < 3; ++k) plate_spin[k] = spin*axis[k];
+
+  LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
+  sidata.is_wall = true;
+  sidata.omega_j = plate_spin;
+
+  int *neighbors;
+  const int count = primitiveWall_->getNeighbors(neighbors);
+  for (int n = 0; n < count; ++n) {
+    const int i = neighbors[n];
+    if (!(mask[i] & groupbit)) continue;
+    const double radius = radius_[i];
+    const silokit::PlateContact contact = silokit::nearest_plate_point(x_[i], centre, axis, hole_radius);
+    const double gap = contact.distance - radius;      // < 0: the grain overlaps the plate
+    const bool touching = gap <= 0.0;
+    // a centre exactly on the plate has no contact direction: reachable only
+    // through an overlap of a whole radius, which no time step allows
+    if ((!touching && gap >= close_fraction*radius) || contact.distance == 0.0) {
+      if (history) std::memset(history[i], 0, dnum_*sizeof(double));
+      continue;
+    }
+
+    double wall_velocity[3];
+    silokit::plate_velocity(contact.point, centre, axis, spin, wall_velocity);
+    sidata.i = i;
+    sidata.radi = radius;
+    sidata.contact_history = history ? history[i] : NULL;
+    sidata.deltan = -gap;
+    for (int k = 0; k < 3; ++k) sidata.delta[k] = -contact.to_plate[k];
+
+    double force_before[3], torque_before[3];
+    for (int k = 0; k < 3; ++k) {
+      force_before[k] = force[i][k];
+      torque_before[k] = torque[i][k];
+    }
+    impl->compute_force(this, sidata, touching, wall_velocity);
+    if (!summing) continue;
+
+    // reaction on the plate: minus the force on the grain, and minus its
+    // moment about the axis point (force at the centre plus the torque)
+    double df[3], dtorque[3], arm[3];
+    for (int k = 0; k < 3; ++k) {
+      df[k] = force[i][k] - force_before[k];
+      dtorque[k] = torque[i][k] - torque_before[k];
+      arm[k] = x_[i][k] - centre[k];
+    }
+    const double moment[3] = {arm[1]*df[2] - arm[2]*df[1] + dtorque[0],
+                              arm[2]*df[0] - arm[0]*df[2] + dtorque[1],
+                              arm[0]*df[1] - arm[1]*df[0] + dtorque[2]};
+    for (int k = 0; k < 3; ++k) {
+      local_sums[0] -= df[k]*axis[k];
+      local_sums[1] -= moment[k]*axis[k];
+    }
+    if (touching) local_sums[2] += 1.0;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixWallGranRotating::compute_vector(int n)
+{
+  if (n == 0) return angular_velocity();
+  if (reduced_step != update->ntimestep) {
+    MPI_Allreduce(local_sums, global_sums, 3, MPI_DOUBLE, MPI_SUM, world);
+    reduced_step = update->ntimestep;
+  }
+  return global_sums[n-1];
+}

@@ -1,0 +1,62 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   fix wall/gran/rotating: the flat bottom of a silo with an orifice (a
+   circular hole in 3D, a slot in 2D), which may rotate about the silo axis:
+   a `fix wall/gran` primitive plane whose contacts are resolved against the
+   plate with its hole (orifice_plate.h) and whose velocity at a contact
+   point is omega x r. Every contact model of fix wall/gran applies.
+   Documentation: doc/fix_wall_gran_rotating.md.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+
+FixStyle(wall/gran/rotating,FixWallGranRotating)
+
+#else
+
+#ifndef LMP_FIX_WALL_GRAN_ROTATING_H
+#define LMP_FIX_WALL_GRAN_ROTATING_H
+
+#include "fix_wall_gran.h"
+
+namespace LAMMPS_NS {
+
+class FixWallGranRotating : public FixWallGran {
+ public:
+  FixWallGranRotating(class LAMMPS *, int, char **);
+  ~FixWallGranRotating();
+  void init();
+  double compute_vector(int);
+
+  // angular velocity (rad/s) at the current time: 0 before `start`
+  double angular_velocity() const;
+
+ protected:
+  void post_force_primitive(int vflag);
+
+ private:
+  double centre[3];         // a point of the axis, in the plane of the plate
+  double axis[3];           // unit vector: plate normal, rotation sense
+  double hole_radius;       // D/2
+  double omega;             // angular velocity once rotating (rad/s), >= 0
+  double start_time;        // simulated time at which the rotation starts
+
+  // sums over this rank's contacts in the last force evaluation, and their
+  // reduction over all ranks, done once per step on demand
+  double local_sums[3];     // axial force, axial torque on the plate, contacts
+  double global_sums[3];
+  bigint reduced_step;
+
+  static int move_own_keywords_last(class LAMMPS *, int narg, char **arg);
+  void parse_own_keywords(int first, int narg, char **arg);
+  void read_plane(int narg, char **arg);
+  void check_geometry();
+  double number(const char *text, const char *keyword);
+};
+
+}
+
+#endif
+#endif

@@ -45,9 +45,9 @@ namespace {
 // Values each of our keywords takes; -1 for a keyword that is not ours.
 int own_keyword_values(const char *keyword)
 {
-  static const char *names[] = {"orifice", "center", "axis", "omega", "frequency", "start"};
-  static const int values[] = {1, 3, 3, 1, 1, 1};
-  for (int k = 0; k < 6; ++k)
+  static const char *names[] = {"orifice", "center", "axis", "omega", "frequency", "start", "open"};
+  static const int values[] = {1, 3, 3, 1, 1, 1, 1};
+  for (int k = 0; k < 7; ++k)
     if (strcmp(keyword, names[k]) == 0) return values[k];
   return -1;
 }
@@ -60,7 +60,7 @@ const double UNIT_TOLERANCE = 1e-6;
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   FixWallGran(lmp, move_own_keywords_last(lmp, narg, arg), arg),
-  hole_radius(0.0), omega(0.0), start_time(0.0), reduced_step(-1)
+  hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0), reduced_step(-1)
 {
   if (meshwall_ != 0 || !primitiveWall_)
     error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
@@ -189,6 +189,9 @@ void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
     } else if (keyword == "start") {
       start_time = silokit::keyword_number(this, error, value, "start");
       if (start_time < 0.0) error->fix_error(FLERR, this, "'start' (a simulated time) must be >= 0");
+    } else if (keyword == "open") {
+      open_time = silokit::keyword_number(this, error, value, "open");
+      if (open_time < 0.0) error->fix_error(FLERR, this, "'open' (a simulated time) must be >= 0");
     }
     i += own_keyword_values(arg[i]) + 1;
   }
@@ -236,6 +239,13 @@ double FixWallGranRotating::angular_velocity() const
   return update->get_cur_time() >= start_time ? omega : 0.0;
 }
 
+/* ---------------------------------------------------------------------- */
+
+double FixWallGranRotating::hole_radius_now() const
+{
+  return update->get_cur_time() >= open_time ? hole_radius : 0.0;
+}
+
 /* ----------------------------------------------------------------------
    The primitive-wall force loop of FixWallGran (fix_wall_gran.cpp,
    post_force_primitive) for the plate with a hole: the same neighbor list,
@@ -253,6 +263,7 @@ void FixWallGranRotating::post_force_primitive(int)
   // the stock loop
   const double close_fraction = neighbor->contactDistanceFactor - 1.0;
   const double spin = angular_velocity();
+  const double hole = hole_radius_now();
   const bool summing = computeflag_ != 0;
   if (summing) {
     for (int k = 0; k < 3; ++k) local_sums[k] = 0.0;
@@ -276,7 +287,7 @@ void FixWallGranRotating::post_force_primitive(int)
     const int i = neighbors[n];
     if (!(mask[i] & groupbit)) continue;
     const double radius = radius_[i];
-    const silokit::PlateContact contact = silokit::nearest_plate_point(x_[i], centre, axis, hole_radius);
+    const silokit::PlateContact contact = silokit::nearest_plate_point(x_[i], centre, axis, hole);
     const double gap = contact.distance - radius;      // < 0: the grain overlaps the plate
     const bool touching = gap <= 0.0;
     // a centre exactly on the plate has no contact direction: reachable only

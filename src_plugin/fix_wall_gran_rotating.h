@@ -32,6 +32,8 @@ class FixWallGranRotating : public FixWallGran {
 
   // angular velocity (rad/s) at the current time: 0 before `start`
   double angular_velocity() const;
+  // radius of the hole at the current time: 0 (closed) before `open`
+  double hole_radius_now() const;
 
  protected:
   void post_force_primitive(int vflag);
@@ -42,6 +44,7 @@ class FixWallGranRotating : public FixWallGran {
   double hole_radius;       // D/2
   double omega;             // angular velocity once rotating (rad/s), >= 0
   double start_time;        // simulated time at which the rotation starts
+  double open_time;         // simulated time at which the hole opens
 
   // sums over this rank's contacts in the last force evaluation, and their
   // reduction over all ranks, done once per step on demand

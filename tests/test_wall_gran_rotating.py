@@ -13,7 +13,7 @@ the silo axis.
     in `fix mesh/surface ... surface_ang_vel`) gives the same orbit.
     The plate's outputs: its load is m g; the time integral of its torque
     about the axis is minus the angular momentum the grain gains.
-(c) Start time: nothing turns before `start`.
+(c) Times: nothing turns before `start`; the hole is closed before `open`.
 (d) The rim: a sphere resting on the plate with the hole under part of it
     stays; one whose centre is over the hole rolls off the rim edge and
     falls through; a sphere rolling over the rim and fast impacts on the
@@ -223,7 +223,7 @@ def test_plate_torque_integrates_to_the_angular_momentum_given(run, tmp_path):
     assert mean_torque * steps * DT == pytest.approx(-gained, rel=5e-3)
 
 
-# ---------------------------------------------------------------- (c) start
+# ---------------------------------------------------------------- (c) start, open
 
 def test_nothing_turns_before_start(run, tmp_path):
     run(deck(one_atom(R0, 0.0, RADIUS), plate(f"orifice {HOLE} frequency {FREQUENCY} start 0.1"),
@@ -236,6 +236,18 @@ def test_nothing_turns_before_start(run, tmp_path):
     assert np.all(np.hypot(rec["vx"][before], rec["vy"][before]) < 1e-12)
     speed, _ = tangential_speed(rec)
     assert np.all(speed[after] / (OMEGA * R0) > 0.99)
+
+
+def test_the_hole_is_closed_before_open(run, tmp_path):
+    """A sphere resting over the hole on the closed plate stays until
+    `open`, then falls through."""
+    run(deck(one_atom(0.5 * HOLE_RADIUS, 0.0, RADIUS - MASS_3D * G / KN),
+             plate(f"orifice {HOLE} open 0.1"), 20000, record_every=100))
+    rec = record(tmp_path)
+    closed = rec["time"] < 0.1 - 1e-9
+    assert np.all(np.abs(rec["z"][closed] - (RADIUS - MASS_3D * G / KN)) < 1e-8)
+    assert np.all(rec["nc"][closed] == 1)
+    assert rec["z"][-1] < -RADIUS and rec["nc"][-1] == 0
 
 
 # ---------------------------------------------------------------- (d) the rim
@@ -468,6 +480,7 @@ BAD_INPUT = [
     ("omega -1", "'omega' must be >= 0"),
     ("omega 1 frequency 1", "either 'omega' or 'frequency'"),
     ("start -0.5", "'start' (a simulated time) must be >= 0"),
+    ("open -1", "'open' (a simulated time) must be >= 0"),
     ("axis 0 0 2", "'axis' must be a unit vector"),
     ("axis 1 0 0", "'axis' must be normal to the plate"),
     ("orifice abc", "'orifice' expects a number, got 'abc'"),

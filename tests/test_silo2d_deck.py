@@ -102,3 +102,33 @@ def test_quick_deck_on_two_ranks(tmp_path):
     run_quick_deck(tmp_path, nprocs=2, narches=2)
     clogs, _, _ = check_records(tmp_path)
     assert (clogs["status"] == 1).sum() >= 2
+
+
+def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
+    """-var stop_at_first 1: the deck stops at its first clog and dumps the
+    grains; the silo stands still, so the arch members in the dump are where
+    arches.txt recorded them at the clog, and the picture is drawn."""
+    output = run_quick_deck(tmp_path, stop_at_first=1)
+    assert "silo2d: done after 1 clogs" in output
+    clogs, arches, _ = check_records(tmp_path)
+    from analysis.lammps_io import read_dump
+    _, grains = read_dump(tmp_path / "clog_state.dump")[-1]
+    assert grains["id"].size == N_TOTAL
+    where = {int(i): (x, z) for i, x, z in zip(grains["id"], grains["x"], grains["z"])}
+    for member, x, z in zip(arches["id"], arches["x"], arches["z"]):
+        assert math.hypot(where[int(member)][0] - x, where[int(member)][1] - z) < 1e-3 * D
+    picture = subprocess.run([sys.executable, "-m", "analysis.silo2d_picture", str(tmp_path),
+                              "--out", str(tmp_path / "arch.png")],
+                             cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert picture.returncode == 0, picture.stderr
+    assert (tmp_path / "arch.png").stat().st_size > 10000
+
+
+def test_picture_force_segments_join_known_grains():
+    from analysis.silo2d_picture import force_segments, window_mask
+    contacts = {"clog": np.array([1, 1, 1, 2]), "id1": np.array([1, 1, 2, 1]),
+                "id2": np.array([2, 9, 3, 2]), "fn": np.array([5.0, 6.0, 7.0, 8.0])}
+    positions = {1: (0.0, 0.0), 2: (1.0, 0.0), 3: (1.0, 1.0)}
+    # contact 1-9: grain 9 unknown, left out; clog 2 not asked for
+    assert force_segments(contacts, 1, positions) == [(0.0, 0.0, 1.0, 0.0, 5.0), (1.0, 0.0, 1.0, 1.0, 7.0)]
+    assert list(window_mask(np.array([-2.0, 0.5, 3.0]), np.array([1.0, 4.0, 1.0]), 2.0, 3.0)) == [True, False, False]

@@ -1,6 +1,8 @@
 """Readers for LIGGGHTS text output: `dump custom` / `dump local` files and
 `fix print` / `fix ave/time` style tables with a `#` header."""
 
+import itertools
+
 import numpy as np
 
 
@@ -10,29 +12,53 @@ def read_dump(path):
     Returns a list of (step, columns) with columns a dict name -> numpy array,
     rows sorted by `id` when the dump has that column (so that dumps written
     by different numbers of MPI ranks compare row by row)."""
-    frames = []
+    return list(iter_dump(path))
+
+
+def _frame_header(handle):
+    """(step, count, column names) of the next frame, None at the end."""
+    for line in handle:
+        if line.startswith("ITEM: TIMESTEP"):
+            break
+    else:
+        return None
+    step = int(handle.readline())
+    handle.readline()
+    count = int(handle.readline())
+    line = handle.readline()
+    while not line.startswith(("ITEM: ATOMS", "ITEM: ENTRIES")):
+        line = handle.readline()
+    return step, count, line.split()[2:]
+
+
+def iter_dump(path, wanted=None):
+    """Frames of a `dump custom` / `dump local` text file one at a time, as
+    (step, columns) with columns a dict name -> numpy array (rows sorted by
+    id when there is an id column), without holding the file in memory;
+    frames whose step fails `wanted(step)` are skipped unparsed."""
     with open(path) as handle:
-        lines = handle.read().splitlines()
-    k = 0
-    while k < len(lines):
-        if not lines[k].startswith("ITEM: TIMESTEP"):
-            k += 1
-            continue
-        step = int(lines[k + 1])
-        count = int(lines[k + 3])
-        k += 4
-        while not lines[k].startswith("ITEM: ATOMS") and not lines[k].startswith("ITEM: ENTRIES"):
-            k += 1
-        names = lines[k].split()[2:]
-        rows = [line.split() for line in lines[k + 1:k + 1 + count]]
-        k += 1 + count
-        data = np.array(rows, dtype=float).reshape(count, len(names))
-        columns = {name: data[:, i] for i, name in enumerate(names)}
-        if "id" in columns:
-            order = np.argsort(columns["id"], kind="stable")
-            columns = {name: values[order] for name, values in columns.items()}
-        frames.append((step, columns))
-    return frames
+        while (header := _frame_header(handle)) is not None:
+            step, count, names = header
+            rows = list(itertools.islice(handle, count))
+            if wanted is not None and not wanted(step):
+                continue
+            data = np.array(" ".join(rows).split(), dtype=float).reshape(count, len(names))
+            columns = {name: data[:, k] for k, name in enumerate(names)}
+            if "id" in columns:
+                order = np.argsort(columns["id"], kind="stable")
+                columns = {name: values[order] for name, values in columns.items()}
+            yield step, columns
+
+
+def dump_steps(path):
+    """Steps of the frames of a dump, reading only the headers' numbers."""
+    steps = []
+    with open(path) as handle:
+        while (header := _frame_header(handle)) is not None:
+            steps.append(header[0])
+            for _ in itertools.islice(handle, header[1]):
+                pass
+    return np.array(steps, dtype=np.int64)
 
 
 def read_table(path):

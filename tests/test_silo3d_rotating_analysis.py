@@ -1,0 +1,386 @@
+"""analysis.silo3d_rotating: the readers on real LIGGGHTS output (dump
+custom, dump local of compute pair/gran/local and its force convention), the
+stationary flow rate on synthetic discharge records whose answer is worked
+out here by hand, seed statistics, the Beverloo and exponential fits, and
+the CLI on synthetic run directories."""
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from analysis import coarse_grain as cg  # noqa: E402
+from analysis import silo3d_rotating as silo  # noqa: E402
+from analysis.deck_blocks import granular_setup, hooke_materials  # noqa: E402
+from analysis.lammps_io import dump_steps, iter_dump, read_table  # noqa: E402
+
+KN = 1000.0
+RHO = 620.0
+
+
+# ------------------------------------------------------------------ readers on LIGGGHTS output
+
+def chain_deck(steps=0, every=1, gravity=""):
+    """Three grains of d = 1 cm on the x axis, 9 mm apart (overlap 1 mm:
+    elastic force kn * 1 mm = 1 N), at rest, no damping."""
+    return f"""
+{granular_setup()}
+region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box
+create_box 1 box
+neighbor 0.002 bin
+{hooke_materials(KN, 2 / 7 * KN)}
+pair_style gran model hooke/stiffness tangential history
+pair_coeff * *
+timestep 1e-6
+create_atoms 1 single 0.0 0.0 0.0 units box
+create_atoms 1 single 0.009 0.0 0.0 units box
+create_atoms 1 single 0.018 0.0 0.0 units box
+set group all diameter 0.01
+set group all density {RHO}
+{gravity}
+fix integ all nve/sphere
+compute pgl all pair/gran/local pos id force
+dump cg all custom {every} dump.cg id type x y z vx vy vz radius mass
+dump_modify cg format "%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g"
+dump contacts all local {every} dump.contacts c_pgl[1] c_pgl[2] c_pgl[3] c_pgl[4] c_pgl[5] c_pgl[6] c_pgl[7] c_pgl[8] c_pgl[9] c_pgl[10] c_pgl[11] c_pgl[12]
+dump_modify contacts format "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g"
+run {steps}
+"""
+
+
+def test_pair_gran_local_force_is_on_the_first_grain(run, tmp_path):
+    run(chain_deck())
+    (_, columns), = list(iter_dump(tmp_path / "dump.contacts"))
+    named = silo.contact_columns(columns)
+    assert len(named["id1"]) == 2 and np.all(named["periodic"] == 0)
+    first = np.column_stack([named["x1"], named["y1"], named["z1"]])
+    second = np.column_stack([named["x2"], named["y2"], named["z2"]])
+    force = np.column_stack([named["fx"], named["fy"], named["fz"]])
+    away_from_second = (first - second) / np.linalg.norm(first - second, axis=1, keepdims=True)
+    # repulsion of 1 N pushing the first grain away from the second
+    assert np.allclose(force, KN * 0.001 * away_from_second, rtol=1e-9, atol=1e-12)
+    # the positions are those of the ids in the same row
+    (_, atoms), = list(iter_dump(tmp_path / "dump.cg"))
+    x_of_id = dict(zip(atoms["id"].astype(int), atoms["x"]))
+    assert np.allclose(named["x1"], [x_of_id[int(i)] for i in named["id1"]])
+
+
+def test_contacts_from_liggghts_give_the_chain_virial(run, tmp_path):
+    # by hand: two contacts, each f (x) r = (1 N)(9 mm) e_x e_x, compressive
+    run(chain_deck())
+    (_, columns), = list(iter_dump(tmp_path / "dump.contacts"))
+    contacts = silo.frame_contacts(columns)
+    virial = np.einsum("ka,kb->ab", contacts.forces, contacts.starts - contacts.ends)
+    expected = np.zeros((3, 3))
+    expected[0, 0] = 2 * (KN * 0.001) * 0.009
+    assert np.allclose(virial, expected, rtol=1e-9, atol=1e-12)
+    kernel = cg.GaussianKernel(0.005)
+    stress = cg.contact_stress([[0.009, 0, 0]], contacts, kernel)[0]
+    assert np.trace(stress) / 3 > 0
+
+
+def test_iter_dump_streams_frames_and_skips_unwanted(run, tmp_path):
+    """lammps_io.iter_dump (read_dump is its list) on real LIGGGHTS output:
+    every frame with its step and all rows, and the `wanted` filter."""
+    run(chain_deck(steps=300, every=100, gravity="fix gravi all gravity 9.81 vector 0.0 0.0 -1.0"))
+    for name in ("dump.cg", "dump.contacts"):
+        streamed = list(iter_dump(tmp_path / name))
+        assert [s for s, _ in streamed] == [0, 100, 200, 300]
+        rows = {len(next(iter(columns.values()))) for _, columns in streamed}
+        assert rows == ({3} if name == "dump.cg" else {2})      # three grains, two contacts
+        assert dump_steps(tmp_path / name).tolist() == [0, 100, 200, 300]
+        picked = list(iter_dump(tmp_path / name, wanted=lambda step: step in (100, 300)))
+        assert [s for s, _ in picked] == [100, 300]
+    (_, frame), = list(iter_dump(tmp_path / "dump.cg", wanted=lambda step: step == 300))
+    particles = silo.frame_particles(frame)
+    assert particles.orientations is None
+    # grains fell freely for 300 steps of 1 us: v_z = -g t (the chain is horizontal)
+    assert np.allclose(particles.velocities[:, 2], -9.81 * 300e-6, rtol=1e-6)
+    assert np.allclose(particles.masses, RHO * math.pi / 6 * 0.01 ** 3, rtol=1e-12)
+
+
+def test_orientation_columns_are_normalised():
+    columns = {name: np.array([1.0, 0.0]) for name in ("x", "y", "z", "vx", "vy", "vz", "mass")}
+    columns.update({"ox": np.array([3.0, 0.0]), "oy": np.array([4.0, 0.0]), "oz": np.array([0.0, -2.0])})
+    assert np.allclose(silo.frame_particles(columns).orientations, [[0.6, 0.8, 0.0], [0.0, 0.0, -1.0]])
+
+
+def test_contact_columns_refuse_other_layouts():
+    with pytest.raises(ValueError, match="pos id force"):
+        silo.contact_columns({f"c_pgl[{k}]": np.zeros(1) for k in range(1, 10)})
+
+
+def test_time_since_opening_from_the_discharge_record():
+    # the record starts at step 5000, t = 0.5 s; dt = 1e-4; t_open = 0.5
+    discharge = {"step": np.array([5000.0, 5100.0]), "t": np.array([0.5, 0.51])}
+    info = {"dt": 1e-4, "t_open": 0.5}
+    assert silo.time_since_opening([5000, 15000, 4000], discharge, info) == pytest.approx([0.0, 1.0, -0.1])
+
+
+# ------------------------------------------------------------------ flow rate
+
+SAMPLE = 0.01
+
+
+def regular_exits(rate, until, gaps=()):
+    """Exit times 1/(2 rate), 3/(2 rate), ... up to `until`, none inside
+    the open intervals `gaps`; never on a sample time."""
+    times = (np.arange(int(until * rate)) + 0.5) / rate
+    for low, high in gaps:
+        times = times[(times <= low) | (times >= high)]
+    return times
+
+
+def record(exit_times, until, grain_mass=1e-3):
+    """Samples every SAMPLE s from 0 to `until`: tau, n_out, mass_out."""
+    tau = np.round(np.arange(0, until + 0.5 * SAMPLE, SAMPLE), 10)
+    n_out = np.searchsorted(np.sort(exit_times), tau, side="right").astype(float)
+    return tau, n_out, n_out * grain_mass
+
+
+def test_stationary_rate_removes_long_no_flow_intervals_by_hand():
+    # 20 grains/s at tau = 0.025 + 0.05 j for 20 s, none in (5, 8) (3 s)
+    # or in (12, 12.5) (0.5 s, kept: shorter than 1 s)
+    exits = regular_exits(20.0, 20.0, gaps=[(5.0, 8.0), (12.0, 12.5)])
+    tau, n_out, mass_out = record(exits, 20.0)
+    start, end = silo.analysis_window(tau, mass_out, total_mass=1.0, reinject=True, transient=1.0)
+    assert (start, end) == (1.0, 20.0)
+    flow = silo.stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=1.0, blocks=10)
+    # exits in (1, 20]: j = 20 ... 399 (380), less j = 100 ... 159 in the
+    # 3-s gap (60) and j = 240 ... 249 in the short one (10): 310 grains.
+    # The 3-s gap is seen from the sample after the exit at 4.975 (4.98)
+    # to the sample after the exit at 8.025 (8.03): 3.05 s removed.
+    assert np.allclose(flow.gaps, [[4.98, 8.03]])
+    assert flow.effective_duration == pytest.approx(19.0 - 3.05)
+    assert flow.q_grains == pytest.approx(310 / 15.95, rel=1e-12)
+    assert flow.q_mass == pytest.approx(310e-3 / 15.95, rel=1e-12)
+    assert not flow.clogged_at_end
+    # blocks of 1.595 s hold 31 or 32 regular exits, except the one with the
+    # short gap, 10 grains (6.3 grains/s) fewer: the spread of the ten block
+    # rates is ~6.3 sqrt(0.1 * 0.9 * 10/9) = 2.0, so se ~ 2.0/sqrt(10) = 0.63
+    assert flow.q_grains_se == pytest.approx(0.63, abs=0.1)
+
+
+def test_window_start_transient_and_end_when_nearly_empty():
+    # 400 grains of 1 g at 20 grains/s; without reinjection the window ends
+    # when 0.6 * 0.4 kg = 240 grains are out: exit j = 239 at 11.975 s,
+    # seen at the sample 11.98
+    exits = regular_exits(20.0, 20.0)
+    tau, n_out, mass_out = record(exits, 20.0)
+    assert silo.analysis_window(tau, mass_out, 0.4, reinject=False, transient=2.0,
+                                end_fraction=0.6) == pytest.approx((2.0, 11.98))
+    assert silo.analysis_window(tau, mass_out, 0.4, reinject=True, transient=2.0) == pytest.approx((2.0, 20.0))
+
+
+def test_flow_that_stops_for_good_is_cut_and_flagged():
+    # exits until 15 s, then nothing up to 20 s: [14.98, 20] is removed
+    exits = regular_exits(20.0, 15.0)
+    tau, n_out, mass_out = record(exits, 20.0)
+    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 1.0, 20.0, min_gap=1.0)
+    assert np.allclose(flow.gaps, [[14.98, 20.0]])
+    assert flow.clogged_at_end
+    # exits j = 20 ... 299 (280) over 13.98 s
+    assert flow.q_grains == pytest.approx(280 / 13.98, rel=1e-12)
+
+
+def test_block_error_of_a_poisson_flow():
+    # Poisson exits at 50 grains/s for 200 s: the count in T has variance
+    # 50 T, so se(Q) = sqrt(50 / 200) = 0.5 grains/s. With 40 blocks the
+    # block estimate of it scatters by ~1/sqrt(2 * 39) = 11 %.
+    rng = np.random.default_rng(12)
+    exits = np.cumsum(rng.exponential(1 / 50.0, 12000))
+    tau, n_out, mass_out = record(exits[exits < 200.0], 200.0)
+    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 0.0, 200.0, blocks=40)
+    assert flow.q_grains == pytest.approx(50.0, abs=4 * 0.5)
+    assert flow.q_grains_se == pytest.approx(0.5, rel=0.35)
+
+
+def test_seed_mean_ci_student_t_by_hand():
+    # 1, 2, 3: mean 2, sample sd 1, se 1/sqrt 3, t(0.975, 2 dof) = 4.302652729911275
+    mean, se, half = silo.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
+    assert (mean, se) == pytest.approx((2.0, 1 / math.sqrt(3)))
+    assert half == pytest.approx(4.302652729911275 / math.sqrt(3), rel=1e-12)
+    # a single seed: its own block se, t(0.975, 9 dof) = 2.262157162740992
+    mean, se, half = silo.seed_mean_ci([5.0], [0.2], [9])
+    assert (mean, se, half) == pytest.approx((5.0, 0.2, 2.262157162740992 * 0.2), rel=1e-12)
+
+
+# ------------------------------------------------------------------ fits
+
+D_VALUES = np.array([0.03, 0.04, 0.05, 0.06, 0.07])
+GRAIN = 0.0099
+
+
+def test_beverloo_fit_recovers_exact_and_noisy_parameters():
+    C, k = 40.0, 1.4
+    Q = C * (D_VALUES - k * GRAIN) ** 2.5
+    fit = silo.fit_beverloo(D_VALUES, Q, 0.02 * Q, GRAIN)
+    assert (fit["C"], fit["k"]) == pytest.approx((C, k), rel=1e-6)
+    assert fit["dof"] == 3 and fit["chi2_dof"] < 1e-10
+    sigma = 0.03 * Q
+    noisy = Q + np.random.default_rng(13).normal(size=Q.size) * sigma
+    fit = silo.fit_beverloo(D_VALUES, noisy, sigma, GRAIN)
+    assert abs(fit["C"] - C) < 3 * fit["C_se"] and abs(fit["k"] - k) < 3 * fit["k_se"]
+    assert 0 < fit["k_se"] < 1.0
+
+
+def test_exponential_fit_recovers_parameters():
+    A, kappa = 2e-3, 84.0          # the paper's kappa = 0.084 /mm
+    Q = A * np.exp(kappa * D_VALUES)
+    fit = silo.fit_exponential(D_VALUES, Q, 0.02 * Q)
+    assert (fit["A"], fit["kappa"]) == pytest.approx((A, kappa), rel=1e-6)
+    sigma = 0.05 * Q
+    noisy = Q + np.random.default_rng(14).normal(size=Q.size) * sigma
+    fit = silo.fit_exponential(D_VALUES, noisy, sigma)
+    assert abs(fit["kappa"] - kappa) < 3 * fit["kappa_se"]
+
+
+# ------------------------------------------------------------------ CLI on synthetic runs
+
+GRAIN_MASS = RHO * math.pi / 6 * GRAIN ** 3      # consistent with d and rho: w = d/2
+DT = 1e-3
+T_OPEN = 0.5
+SILO_DIAMETER = 0.1
+OMEGA = 2.0
+FALL = 0.3          # v_z = -FALL in the synthetic dumps
+LATTICE = 0.01
+
+
+def write_run(directory, f, D, seed, rate, gaps=(), duration=12.0, fields=False):
+    """A run directory with run.txt and discharge.txt (regular exits at
+    `rate` grains/s with no exit in `gaps`), and with `fields` also dump.cg
+    and dump.contacts: a sc lattice filling the silo, v = Omega e_z x r -
+    FALL e_z, each vertical lattice neighbour pair in contact pressing with
+    1 N, frames every 0.5 s."""
+    directory.mkdir(parents=True)
+    (directory / "run.txt").write_text(
+        f"# synthetic\nd {GRAIN} # m\nrho {RHO}\nmass {GRAIN_MASS}\ng 9.8\nDc {SILO_DIAMETER}\nD {D}\n"
+        f"f {f}\nseed {seed}\nN 100000\ndt {DT}\nt_open {T_OPEN}\nreinject 1\n")
+    tau, n_out, mass_out = record(regular_exits(rate, duration, gaps), duration, GRAIN_MASS)
+    steps = np.round((tau + T_OPEN) / DT)
+    rows = "".join(f"{s:.0f} {t + T_OPEN:.10g} {n:.0f} {m:.10g} 0\n"
+                   for s, t, n, m in zip(steps, tau, n_out, mass_out))
+    (directory / "discharge.txt").write_text("# step t n_out mass_out extra\n" + rows)
+    if fields:
+        write_dumps(directory, np.arange(0.0, duration + 0.01, 0.5))
+
+
+def write_dumps(directory, frame_tau):
+    index = np.arange(-5, 6)
+    mesh = np.meshgrid(index, index, np.arange(-4, 8), indexing="ij")      # below the orifice too
+    sites = LATTICE * np.column_stack([m.ravel() for m in mesh]).astype(float) + [0, 0, 0.005]
+    sites = sites[np.hypot(sites[:, 0], sites[:, 1]) < 0.5 * SILO_DIAMETER - 0.005]
+    velocities = np.column_stack([-OMEGA * sites[:, 1], OMEGA * sites[:, 0], np.full(len(sites), -FALL)])
+    below = {tuple(np.round(s / LATTICE, 3)): k for k, s in enumerate(sites)}
+    pairs = [(k, below[key]) for k, s in enumerate(sites)
+             if (key := tuple(np.round((s - [0, 0, LATTICE]) / LATTICE, 3))) in below]
+    with open(directory / "dump.cg", "w") as cg_file, open(directory / "dump.contacts", "w") as contact_file:
+        for tau in frame_tau:
+            step = round((tau + T_OPEN) / DT)
+            header = f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF {{}}\n{{}}\nITEM: BOX BOUNDS ff ff ff\n" \
+                     "-0.1 0.1\n-0.1 0.1\n0 0.2\n"
+            cg_file.write(header.format("ATOMS", len(sites)) + "ITEM: ATOMS id type x y z vx vy vz radius mass\n")
+            for k, (x, v) in enumerate(zip(sites, velocities)):
+                cg_file.write(f"{k + 1} 1 {x[0]} {x[1]} {x[2]} {v[0]} {v[1]} {v[2]} {GRAIN / 2} {GRAIN_MASS}\n")
+            contact_file.write(header.format("ENTRIES", len(pairs)) + "ITEM: ENTRIES " +
+                               " ".join(f"c_pgl[{c}]" for c in range(1, 13)) + "\n")
+            for upper, lower in pairs:
+                # force on the upper grain from the lower one: pushed up
+                x1, x2 = sites[upper], sites[lower]
+                contact_file.write(f"{x1[0]} {x1[1]} {x1[2]} {x2[0]} {x2[1]} {x2[2]} {upper + 1} {lower + 1} 0 0 0 1\n")
+
+
+def test_cli_writes_tables_and_plots(tmp_path):
+    runs = []
+    # three orifices at f = 0.32, two seeds each; rate in grains/s grows with D
+    for D, rate in ((0.03, 20.0), (0.04, 40.0), (0.05, 80.0)):
+        for seed, gaps in ((1, ()), (2, [(4.0, 6.0)])):
+            runs.append(tmp_path / f"D{D}_s{seed}")
+            write_run(runs[-1], 0.32, D, seed, rate, gaps, fields=(D == 0.03 and seed == 1))
+    out = tmp_path / "out"
+    result = subprocess.run([sys.executable, "-m", "analysis.silo3d_rotating", *map(str, runs), "--out", str(out),
+                             "--map-frames", "2"],
+                            cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "silo3d_rotating: done" in result.stdout
+
+    per_run = read_table(out / "flow_rate_runs.txt")
+    # by hand, transient 1 s, window [1, 12]: seed 1 has rate * 11 grains in
+    # 11 s (regular exits at (j + 1/2)/rate, none on a sample);
+    # seed 2 loses the exits in (4, 6) and the gap seen is 2 s + one
+    # inter-exit interval (from the sample after the last exit before 4 to
+    # the sample after the first exit after 6): 20/s: 3.975 -> 3.98 to
+    # 6.025 -> 6.03; 40/s: 3.9875 -> 3.99 to 6.0125 -> 6.02; 80/s: 3.99375 ->
+    # 4.00 to 6.00625 -> 6.01
+    removed = {20.0: 2.05, 40.0: 2.03, 80.0: 2.01}
+    for k, (D, rate) in enumerate(((0.03, 20.0), (0.03, 20.0), (0.04, 40.0), (0.04, 40.0),
+                                   (0.05, 80.0), (0.05, 80.0))):
+        row = {name: values[k] for name, values in per_run.items()}
+        assert row["D"] == D
+        if row["seed"] == 1:
+            assert row["Q_grains_s"] == pytest.approx(rate, rel=1e-7)
+        else:
+            grains = rate * 11 - rate * 2
+            assert row["removed"] == pytest.approx(removed[rate], rel=1e-7)
+            assert row["Q_grains_s"] == pytest.approx(grains / (11 - removed[rate]), rel=1e-7)
+        assert row["Q_kg_s"] == pytest.approx(row["Q_grains_s"] * GRAIN_MASS, rel=1e-7)
+
+    groups = read_table(out / "flow_rate.txt")
+    assert groups["n"].tolist() == [2, 2, 2]
+    # by hand from the rates above, two seeds per D; t(0.975, 1 dof) = 12.706204736174707
+    for k, rate in enumerate((20.0, 40.0, 80.0)):
+        seeds = np.array([rate, 9 * rate / (11 - removed[rate])]) * GRAIN_MASS
+        assert groups["Q_kg_s"][k] == pytest.approx(seeds.mean(), rel=1e-7)
+        assert groups["Q_kg_s_ci95"][k] == pytest.approx(12.706204736174707 * abs(seeds[1] - seeds[0]) / 2,
+                                                          rel=1e-6)
+    fits = read_table(out / "flow_rate_fits.txt")
+    assert fits["f"].tolist() == [0.32] and fits["beverloo_dof"].tolist() == [1]
+    for name in ("Q_vs_f.png", "Q_vs_D_loglog.png", "Q_vs_D_semilog.png", "flow_rate.md", "flow_rate_fits.md"):
+        assert (out / name).stat().st_size > 0
+
+    # fields of the run with dumps
+    label = "f0.32_D30mm_seed1"
+    for name in ("map_phi.png", "map_speed.png", "map_vtheta.png", "map_pk.png", "map_pc.png", "fields.npz",
+                 "orifice_timeseries.txt", "discharge.png"):
+        assert (out / "runs" / label / name).stat().st_size > 0
+    assert not (out / "runs" / label / "map_S.png").exists()          # no orientations
+    series = read_table(out / "runs" / label / "orifice_timeseries.txt")
+    # frames every 0.5 s inside [1, 12]: 1.0, 1.5, ..., 12.0
+    assert series["t"] == pytest.approx(np.arange(1.0, 12.01, 0.5))
+    assert series["v_z"] == pytest.approx(-FALL, rel=1e-9)
+    assert np.all(series["v_theta"] > 0) and np.all(series["p_c"] > 0)
+    orifice = read_table(out / "orifice.txt")
+    assert orifice["D"].tolist() == [0.03]
+    # lattice of spacing a = 1 cm: phi = m / (rho a^3); with w = d/2 ~ a/2 the
+    # lattice ripples by up to 6 exp(-2 pi^2 w^2/a^2) = 4.4 %
+    assert orifice["phi"][0] == pytest.approx(GRAIN_MASS / RHO / LATTICE ** 3, rel=0.05)
+    assert (out / "orifice_vs_f.png").stat().st_size > 0
+    fields = np.load(out / "runs" / label / "fields.npz")
+    assert fields["frames"].tolist() == [2, 2, 2, 2]
+    # v_theta = Omega r in the map, away from the lattice's edges (r < 2 cm, 2 cm < z < 5 cm)
+    inner_r, inner_z = fields["r"] < 0.02, (fields["z"] > 0.02) & (fields["z"] < 0.05)
+    v_theta = fields["velocity_0"][..., 1][np.ix_(inner_r, inner_z)]
+    assert v_theta == pytest.approx(np.broadcast_to(OMEGA * fields["r"][inner_r][:, None], v_theta.shape),
+                                    abs=0.05 * OMEGA * LATTICE)
+
+
+def test_a_frame_written_twice_is_read_once(tmp_path):
+    # a deck's run loop can make LIGGGHTS dump the last step of a run again
+    # at the set-up of the next run: the fields must not count it twice
+    frame = ("ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS ff ff ff\n0 1\n0 1\n0 1\n"
+             "ITEM: ATOMS id type x y z vx vy vz radius mass\n1 1 0 0 {step} 0 0 0 0.005 0.001\n")
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    (run_dir / "dump.cg").write_text("".join(frame.format(step=s) for s in (10, 20, 20, 30)))
+    run = silo.Run(run_dir, {}, {}, np.array([]))
+    steps = dump_steps(run_dir / "dump.cg")
+    assert steps.tolist() == [10, 20, 20, 30]
+    read = [(step, particles.positions[0, 2], contacts)
+            for step, particles, contacts in silo.frames_with_contacts(run, steps[[1, 2, 3]])]
+    assert read == [(20, 20.0, None), (30, 30.0, None)]

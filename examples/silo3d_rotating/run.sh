@@ -1,0 +1,87 @@
+#!/bin/bash
+# Flow rate of the rotating-bottom silo (inputs/silo3d_rotating/in.silo3d_rotating,
+# the paper's silo with 10000 spheres) against the bottom's rotation
+# frequency, for a few orifice sizes, then the analysis: Q(f, D) tables,
+# Beverloo and exponential fits, plots, coarse-grained fields.
+#
+#   bash examples/silo3d_rotating/run.sh [RUN_DIR]
+#
+# Every run starts from one settled packing per seed (made once, then
+# reused); the flow is kept stationary by reinjecting the grains at the top.
+# Resumable: a run whose directory holds `finished` is not run again.
+# Environment (defaults in brackets):
+#   DS       orifice diameters in m          ["0.042 0.06"]
+#   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 1.28"]
+#   SEEDS    primes > 10000, one packing each ["32452843"]
+#   DT_FRACTION  dt = t_c/DT_FRACTION        [40]
+#   DISCHARGE    simulated seconds after the opening [2.0]
+#   TRANSIENT    seconds after the opening left out of Q [0.5]
+#   FIELDS   "D f" pairs whose runs also dump grains and contacts for the
+#            coarse-grained fields            ["0.06 0 0.06 0.32 0.06 1.28"]
+#   JOBS     runs at once (serial LIGGGHTS processes) [1]
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
+DS="${DS:-0.042 0.06}"
+FS="${FS:-0 0.16 0.32 0.64 1.28}"
+SEEDS="${SEEDS:-32452843}"
+DT_FRACTION="${DT_FRACTION:-40}"
+DISCHARGE="${DISCHARGE:-2.0}"
+TRANSIENT="${TRANSIENT:-0.5}"
+FIELDS="${FIELDS:-0.06 0 0.06 0.32 0.06 1.28}"
+JOBS="${JOBS:-1}"
+LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
+PYTHON="${PYTHON:-/usr/bin/python3}"
+DECK="$ROOT/inputs/silo3d_rotating/in.silo3d_rotating"
+COMMON=(-echo none -var inputs "$ROOT/inputs" -var dt_fraction "$DT_FRACTION")
+
+mkdir -p "$RUN_DIR"
+log() { echo "[$(date +%H:%M:%S)] silo3d_rotating: $*"; }
+
+settle() {   # one packing per seed
+  local seed=$1 dir="$RUN_DIR/packing_s$1"
+  [ -f "$dir/finished" ] && return 0
+  mkdir -p "$dir"
+  log "settling the packing of seed $seed in $dir"
+  (cd "$dir" && "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
+      -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
+  touch "$dir/finished"
+}
+
+wants_fields() {
+  local D=$1 f=$2 pair
+  set -- $FIELDS
+  while [ $# -ge 2 ]; do
+    [ "$1" = "$D" ] && [ "$2" = "$f" ] && return 0
+    shift 2
+  done
+  return 1
+}
+
+discharge() {  # one (D, f, seed) run
+  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start
+  [ -f "$dir/finished" ] && { log "D $D f $f seed $seed: done before, skipped"; return 0; }
+  mkdir -p "$dir"
+  wants_fields "$D" "$f" && dump=0.05
+  start=$(date +%s)
+  log "D $D f $f seed $seed: running (dumps every $dump s)"
+  (cd "$dir" && "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
+      -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject 1 -var D "$D" -var f "$f" \
+      -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" > screen.txt 2>&1) \
+      || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
+  touch "$dir/finished"
+  log "D $D f $f seed $seed: $(grep -a 'done at' "$dir/screen.txt" | sed 's/silo3d_rotating: //') ($(( $(date +%s) - start )) s)"
+}
+
+for seed in $SEEDS; do settle "$seed"; done
+for seed in $SEEDS; do
+  for D in $DS; do
+    for f in $FS; do
+      while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
+      discharge "$D" "$f" "$seed" &
+    done
+  done
+done
+wait
+log "all runs done; analysing"
+"$PYTHON" -m analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT"

@@ -121,3 +121,17 @@ def test_fastest_rotation_with_reinjection_keeps_every_grain(run, tmp_path):
     assert record["n_out"][-1] > 100
     reentries = read_table(tmp_path / "reinject.txt")
     assert reentries["n_out"][-1] == record["n_out"][-1]
+
+
+def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
+    """write_packing saves the settled silo; read_packing starts from it and
+    opens the orifice at the first step (the clock restarts at 0 after
+    read_restart, doc/liggghts_quirks.md): grains leave within 0.3 s."""
+    run(quick_deck(write_packing=1, discharge_time=0.05), subdir="settle")
+    run(quick_deck(read_packing=1, packing="../settle/packing.restart", discharge_time=0.3), subdir="read")
+    params = run_parameters(tmp_path / "read" / "run.txt")
+    record = read_table(tmp_path / "read" / "discharge.txt")
+    assert params["t_open"] == 0.0
+    assert record["t"][0] == pytest.approx(0.01, abs=1e-3)
+    assert record["t"][-1] == pytest.approx(0.3, abs=0.011)
+    assert record["n_out"][-1] > 20

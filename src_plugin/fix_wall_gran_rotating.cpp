@@ -225,15 +225,6 @@ void FixWallGranRotating::check_geometry()
 
 /* ---------------------------------------------------------------------- */
 
-void FixWallGranRotating::init()
-{
-  FixWallGran::init();
-  if (!atom->radius_flag)
-    error->fix_error(FLERR, this, "needs per-atom radius (atom_style sphere or granular)");
-}
-
-/* ---------------------------------------------------------------------- */
-
 double FixWallGranRotating::angular_velocity() const
 {
   return update->get_cur_time() >= start_time ? omega : 0.0;

@@ -27,7 +27,6 @@ class FixWallGranRotating : public FixWallGran {
  public:
   FixWallGranRotating(class LAMMPS *, int, char **);
   ~FixWallGranRotating();
-  void init();
   double compute_vector(int);
 
   // angular velocity (rad/s) at the current time: 0 before `start`
@@ -56,7 +55,6 @@ class FixWallGranRotating : public FixWallGran {
   void parse_own_keywords(int first, int narg, char **arg);
   void read_plane(int narg, char **arg);
   void check_geometry();
-  double number(const char *text, const char *keyword);
 };
 
 }

@@ -162,10 +162,12 @@ void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
       if (diameter < 0.0) error->fix_error(FLERR, this, "'orifice' (the diameter) must be >= 0");
       hole_radius = 0.5*diameter;
     } else if (keyword == "center") {
-      // a point of the axis: only its position in the plane matters
-      for (int k = 0; k < 3; ++k)
-        if (k != normal) centre[k] = silokit::keyword_number(this, error, arg[i+1+k], "center");
-      silokit::keyword_number(this, error, arg[i+1+normal], "center");
+      // a point of the axis: only its position in the plane matters (its
+      // coordinate along the normal is checked, then the plane's is kept)
+      for (int k = 0; k < 3; ++k) {
+        const double coordinate = silokit::keyword_number(this, error, arg[i+1+k], "center");
+        if (k != normal) centre[k] = coordinate;
+      }
     } else if (keyword == "axis") {
       double direction[3], length_squared = 0.0;
       for (int k = 0; k < 3; ++k) {

@@ -232,7 +232,7 @@ the check is below what this measurement resolves). At the deck's default
 (every 1000 steps at dt = 1e-5, every 10000 at 1e-6) that is
 {100 * check_fraction / 1000:.4f} % of a step or less.
 
-{chr(10).join(benchlib.provenance())}
+{benchlib.provenance()}
 """
     report_path.parent.mkdir(parents=True, exist_ok=True)
     report_path.write_text(text)

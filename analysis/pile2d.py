@@ -37,9 +37,10 @@ MODEL_ORDER = ("none", "overlap", "fixed")
 # ---------------------------------------------------------------- reading
 
 def read_discharges(path):
-    """Rows of a discharge record file as dicts: `model` as text, every
-    other column as float. A line with fewer fields than the header (cut by
-    an interruption) is skipped; a repeated header line is allowed."""
+    """Rows of a record file (discharges, or in.build's piles) as dicts:
+    `model` and any column that is not a number as text, the others as
+    float. A line with fewer fields than the header (cut by an interruption)
+    is skipped; a repeated header line is allowed."""
     names, rows = None, []
     for line in Path(path).read_text().splitlines():
         stripped = line.strip()
@@ -55,7 +56,10 @@ def read_discharges(path):
             continue
         row = {}
         for name, word in zip(names, words):
-            row[name] = word if name == "model" else float(word)
+            try:
+                row[name] = word if name == "model" else float(word)
+            except ValueError:
+                row[name] = word
         rows.append(row)
     return rows
 

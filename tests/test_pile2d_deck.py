@@ -170,3 +170,16 @@ def test_rolling_resistance_holds_the_pile_over_the_orifice(tmp_path):
         assert np.all(rolling > 0), (model, heights)
         error = math.sqrt(rolling.var(ddof=1) / rolling.size + none.var(ddof=1) / none.size)
         assert rolling.mean() - none.mean() > 3 * error, (model, heights)
+
+
+@pytest.mark.parametrize("name, variables, expected", [
+    ("in.build", {"L": 20.05}, "in.build: ERROR: L = 20.05 must be a multiple of substrate_d = 0.1"),
+    ("in.build", {"quick": 1, "model": "rough"}, "rolling model rough (known: none, overlap, fixed)"),
+    ("in.discharge", {"w": -1}, "in.discharge: ERROR: w = -1 must be > 0"),
+])
+def test_bad_deck_values_stop_with_an_error(tmp_path, name, variables, expected):
+    from conftest import LiggghtsError
+    with pytest.raises(LiggghtsError) as caught:
+        run_liggghts(deck(name), tmp_path, variables={"inputs": INPUTS, **variables})
+    assert "Label wasn't found" in caught.value.message
+    assert expected in caught.value.output

@@ -168,7 +168,7 @@ def main():
     parser.add_argument("--fractions", type=float, nargs="+", default=[12.5, 25, 50, 100])
     parser.add_argument("--seeds", type=int, default=16)
     parser.add_argument("--L", type=float, default=30.0)
-    parser.add_argument("--widths", type=float, nargs=3, default=[2.2, 3.0, 3.8])
+    parser.add_argument("--widths", type=float, nargs=3, default=[3.0, 3.8, 4.6])
     args = parser.parse_args()
     if args.quick:
         benchlib.use_smoke_outputs()

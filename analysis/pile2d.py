@@ -13,8 +13,9 @@ deviation with a chi-square interval (normal approximation; h is bimodal
 near w_t, so the bootstrap below is the one to trust there); w_t with a
 bootstrap over seeds (a seed is one pile, discharged at every width, so
 whole seeds are resampled); w_c with the standard error of a weighted
-least-squares fit (weights 1/sigma(w_t)^2) and the spread of w_c over
-joint bootstrap replicates of all sizes.
+least-squares fit (weights 1/sigma(w_t)^2, scaled by sqrt(chi2/dof) when
+that exceeds 1) and the spread of w_c over joint bootstrap replicates of
+all sizes.
 
 CLI:  python3 -m analysis.pile2d discharges.txt --out DIR [--bootstrap 2000]
 """
@@ -155,12 +156,14 @@ def fit_critical_width(lengths, thresholds, sigmas=None):
 
 
 def critical_width(tables, replicates, rng):
-    """From {L: (widths, table)}: w_t(L), its bootstrap std, and w_c three
-    ways: weighted fit of the w_t values (weights from the bootstrap std,
+    """From {L: (widths, table)} (sizes with fewer than 2 piles left out):
+    w_t(L), its bootstrap std, and w_c three ways: weighted fit of the w_t values (weights from the bootstrap std,
     floored at a quarter of the smallest width step so that a w_t that never
     moved in the bootstrap does not take all the weight), and the mean and
     std of w_c over joint bootstrap replicates. Needs 2 lengths or more."""
-    lengths = sorted(tables)
+    # a size with fewer than 2 piles has no fluctuation to locate
+    lengths = sorted(length for length, (_, table) in tables.items()
+                     if np.sum(np.any(~np.isnan(table), axis=1)) >= 2)
     thresholds, spreads, replicas = [], [], []
     for length in lengths:
         widths, table = tables[length]
@@ -175,7 +178,14 @@ def critical_width(tables, replicates, rng):
         w_c, slope, se_c, se_slope = fit_critical_width(lengths, thresholds, spreads)
         joint = np.array([fit_critical_width(lengths, [r[k] for r in replicas])[0]
                           for k in range(replicates)])
-        result.update({"w_c": w_c, "slope": slope, "w_c_se": se_c,
+        # chi^2 per degree of freedom of the weighted fit: above 1 the w_t
+        # scatter more than their bootstrap errors say, and the standard
+        # error is scaled by its square root (Birge ratio)
+        residual = (np.array(thresholds) - (w_c + slope / np.array(lengths))) / np.array(spreads)
+        dof = len(lengths) - 2
+        chi2_dof = float(residual @ residual) / dof if dof > 0 else math.nan
+        scale = math.sqrt(max(1.0, chi2_dof)) if dof > 0 else 1.0
+        result.update({"w_c": w_c, "slope": slope, "w_c_se": se_c * scale, "chi2_dof": chi2_dof,
                        "w_c_bootstrap_mean": float(joint.mean()),
                        "w_c_bootstrap_std": float(joint.std(ddof=1)) if replicates > 1 else math.nan})
     return result
@@ -216,19 +226,20 @@ def format_report(summary, rows):
     for model, entry in summary.items():
         critical = entry["critical"]
         for length, w_t, sigma in zip(critical["L"], critical["w_t"], critical["w_t_sigma"]):
-            piles = len(entry["lengths"][length]["seeds"])
-            lines.append(f"| {model} | {length:g} | {piles} | {w_t:.2f} | {sigma:.2f} |")
-    lines += ["", "| model | w_c (d), weighted fit ± se | w_c bootstrap mean ± std | paper |",
-              "|---|---|---|---|"]
+            data = entry["lengths"][length]
+            edge = " (grid edge)" if w_t in (data["widths"][0], data["widths"][-1]) else ""
+            lines.append(f"| {model} | {length:g} | {len(data['seeds'])} | {w_t:.2f}{edge} | {sigma:.2f} |")
+    lines += ["", "| model | w_c (d), weighted fit ± se | chi2/dof | w_c bootstrap mean ± std | paper |",
+              "|---|---|---|---|---|"]
     for model, entry in summary.items():
         c = entry["critical"]
         paper = PAPER_CRITICAL_WIDTH.get(model)
         paper_text = f"{paper[0]} ± {paper[1]}" if paper else "-"
         if "w_c" in c:
-            lines.append(f"| {model} | {c['w_c']:.2f} ± {c['w_c_se']:.2f} | "
+            lines.append(f"| {model} | {c['w_c']:.2f} ± {c['w_c_se']:.2f} | {c['chi2_dof']:.2f} | "
                          f"{c['w_c_bootstrap_mean']:.2f} ± {c['w_c_bootstrap_std']:.2f} | {paper_text} |")
         else:
-            lines.append(f"| {model} | (one L only) | - | {paper_text} |")
+            lines.append(f"| {model} | (one L only) | - | - | {paper_text} |")
     lines += ["", "## h(w): mean [95 % CI] and standard deviation [95 % CI]", ""]
     for model, entry in summary.items():
         for length, data in entry["lengths"].items():

@@ -97,20 +97,24 @@ def test_fit_critical_width_exact_line_and_standard_errors_by_hand():
 
 
 def test_critical_width_from_tables_recovers_the_lines_w_c():
-    # synthetic ensembles whose w_t is exactly 4 + 40/L (L = 20 -> 6, 40 -> 5):
-    # half the seeds jam up to w_t, the other half collapse from w_t on, so
-    # only the column w = w_t has a spread
+    # synthetic ensembles whose w_t is exactly 4 + 40/L (L = 20, 40, 80 ->
+    # 6, 5, 4.5): half the seeds jam up to w_t, the other half collapse from
+    # w_t on, so only the column w = w_t has a spread
     def table(w_t, widths):
-        late = [5.0 if w < w_t + 0.5 else 0.0 for w in widths]
-        early = [5.0 if w < w_t - 0.5 else 0.0 for w in widths]
+        late = [5.0 if w < w_t + 0.25 else 0.0 for w in widths]
+        early = [5.0 if w < w_t - 0.25 else 0.0 for w in widths]
         return np.array([late] * 6 + [early] * 6)
-    widths = np.arange(1.0, 9.0, 1.0)
-    tables = {20.0: (widths, table(6.0, widths)), 40.0: (widths, table(5.0, widths))}
+    widths = np.arange(1.0, 9.0, 0.5)
+    tables = {length: (widths, table(4 + 40 / length, widths)) for length in (20.0, 40.0, 80.0)}
+    # a size with a single pile is left out
+    tables[160.0] = (widths, table(4.25, widths)[:1])
     result = pile2d.critical_width(tables, 200, np.random.default_rng(7))
-    assert result["w_t"] == [6.0, 5.0]
+    assert result["L"] == [20.0, 40.0, 80.0]
+    assert result["w_t"] == [6.0, 5.0, 4.5]
     assert result["w_c"] == pytest.approx(4.0)
     assert result["slope"] == pytest.approx(40.0)
-    # nearly every replicate keeps both w_t, so the joint bootstrap agrees
+    assert result["chi2_dof"] == pytest.approx(0.0, abs=1e-12)
+    # nearly every replicate keeps every w_t, so the joint bootstrap agrees
     assert result["w_c_bootstrap_mean"] == pytest.approx(4.0, abs=0.1)
 
 

@@ -8,7 +8,8 @@ Reads the file in.discharge appends to (one line per discharge, columns
 named by its `#` header: model L w seed h n_out h0 n_pile w_gap t_end
 status ...; doc/pile2d.md, "Records").
 
-Uncertainties: the mean of h with a Student t interval, its standard
+Widths sampled for fewer than half of the piles of a (model, L) are left
+out. Uncertainties: the mean of h with a Student t interval, its standard
 deviation with a chi-square interval (normal approximation; h is bimodal
 near w_t, so the bootstrap below is the one to trust there); w_t with a
 bootstrap over seeds (a seed is one pile, discharged at every width, so
@@ -76,6 +77,16 @@ def height_table(rows, model, length, settled_only=False):
     for r in chosen:
         table[seeds.index(int(r["seed"])), widths.index(round(r["w"], 6))] = r["h"]
     return np.array(widths), seeds, table
+
+
+def well_sampled(widths, table, fraction=0.5):
+    """The widths (and table columns) sampled for at least `fraction` of
+    the piles: a width run for a few piles only (an earlier, finer grid)
+    would put a noisy standard deviation next to well-sampled ones."""
+    table = np.asarray(table, dtype=float)
+    counts = np.sum(~np.isnan(table), axis=0)
+    keep = counts >= fraction * table.shape[0]
+    return np.asarray(widths)[keep], table[:, keep]
 
 
 # ---------------------------------------------------------------- statistics
@@ -210,6 +221,7 @@ def summarize(rows, replicates=2000, seed=1, settled_only=False):
         per_length, tables = {}, {}
         for length in lengths:
             widths, seeds, table = height_table(rows, model, length, settled_only)
+            widths, table = well_sampled(widths, table)
             tables[length] = (widths, table)
             per_length[length] = {"widths": widths, "seeds": seeds, "table": table,
                                   "stats": [mean_std_ci(table[:, j]) for j in range(len(widths))]}

@@ -39,6 +39,13 @@ def test_height_table_places_each_sample_by_seed_and_width():
     assert math.isnan(table[1, 1])
 
 
+def test_well_sampled_drops_widths_run_for_few_piles():
+    table = np.array([[5.0, 1.0, 0.0], [4.0, np.nan, 0.0], [6.0, np.nan, np.nan], [5.0, np.nan, 0.0]])
+    widths, kept = pile2d.well_sampled([1.0, 1.4, 1.8], table)
+    assert list(widths) == [1.0, 1.8]           # 1.4: 1 of 4 piles; 1.8: 3 of 4
+    assert kept.shape == (4, 2) and kept[0, 1] == 0.0
+
+
 def test_mean_std_ci_by_hand():
     # 1, 2, 3, 4: mean 2.5, s = sqrt(5/3) = 1.290994; t(0.975, 3) = 3.182446
     # -> half width 3.182446 * 1.290994 / 2 = 2.054252; chi2(0.975, 3) =

@@ -1,0 +1,250 @@
+"""Ensembles of open-pile discharges (Magalhaes et al. 2014): builds a pile
+per (model, L, seed) with inputs/pile2d/in.build and discharges it at every
+width with inputs/pile2d/in.discharge (doc/pile2d.md).
+
+Resumable: a pile whose restart file and build record exist is not built
+again, a discharge whose (model, L, w, seed) is already in the results file
+is not run again; so an interrupted ensemble is continued by the same
+command. Several tasks (one task = one pile and its discharges) run at once
+with -j; --mpi N runs each LIGGGHTS under mpirun -np N.
+
+Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
+discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.
+
+CLI:
+    python3 -m analysis.pile2d_driver --out runs/pile2d --models none overlap fixed \
+        --L 20 30 --seeds 10 --widths 1 2 3 4 5 6 -j 2
+"""
+
+import argparse
+import math
+import os
+import subprocess
+import sys
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+INPUTS = ROOT / "inputs"
+BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
+MODELS = ("none", "overlap", "fixed")
+FIRST_SEED = 15485863
+PILES_HEADER = ("# model L seed n_pile h0 rows inserted t_rain t_end status dt_fraction "
+                "damping rolling_damping pile")
+DISCHARGES_HEADER = ("# model L w seed h n_out h0 n_pile w_gap t_end status dt_fraction "
+                     "damping rolling_damping")
+
+
+# ---------------------------------------------------------------- seeds
+
+def is_prime(n):
+    if n < 2:
+        return False
+    if n % 2 == 0:
+        return n == 2
+    for k in range(3, int(math.isqrt(n)) + 1, 2):
+        if n % k == 0:
+            return False
+    return True
+
+
+def prime_seeds(count, first=FIRST_SEED):
+    """`count` primes from `first` on (LIGGGHTS wants prime seeds > 10000)."""
+    seeds, n = [], max(first, 10001)
+    while len(seeds) < count:
+        if is_prime(n):
+            seeds.append(n)
+        n += 1
+    return seeds
+
+
+# ---------------------------------------------------------------- records
+
+def width_key(w):
+    """Widths as they appear in records ("4", "4.2"): compare rounded."""
+    return round(float(w), 6)
+
+
+def read_records(path, key_columns):
+    """Set of key tuples (model as text, the rest rounded numbers) of the
+    lines of a record file; missing file -> empty set."""
+    keys = set()
+    path = Path(path)
+    if not path.exists():
+        return keys
+    names = None
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "#":
+            names = words[1:]
+            continue
+        if line.startswith("#"):
+            names = line.lstrip("#").split()
+            continue
+        if names is None or len(words) < len(names):
+            continue          # a line cut by an interruption
+        row = dict(zip(names, words))
+        keys.add(tuple(row[c] if c == "model" else width_key(row[c]) for c in key_columns))
+    return keys
+
+
+def ensure_header(path, header):
+    path = Path(path)
+    if not path.exists() or path.stat().st_size == 0:
+        path.write_text(header + "\n")
+
+
+# ---------------------------------------------------------------- running
+
+class Runner:
+    def __init__(self, args):
+        self.args = args
+        self.out = Path(args.out).resolve()
+        self.piles_file = self.out / "piles.txt"
+        self.results_file = self.out / "discharges.txt"
+        self.lock = threading.Lock()
+        self.done = 0
+        self.total = 0
+        self.start = time.time()
+
+    def common_variables(self, model, length, seed):
+        a = self.args
+        variables = {"model": model, "L": length, "seed": seed, "inputs": INPUTS,
+                     "dt_fraction": a.dt_fraction, "damping": a.damping,
+                     "rolling_damping": a.rolling_damping}
+        for item in a.var:
+            name, value = item.split("=", 1)
+            variables[name] = value
+        return variables
+
+    def liggghts(self, deck, variables, log):
+        command = [str(BINARY), "-in", str(INPUTS / "pile2d" / deck), "-log", "none"]
+        for name, value in variables.items():
+            command += ["-var", name, str(value)]
+        if self.args.mpi > 1:
+            command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
+                       str(self.args.mpi)] + command
+        if self.args.nice:
+            command = ["nice", "-n", str(self.args.nice)] + command
+        started = time.time()
+        with open(log, "w") as handle:
+            result = subprocess.run(command, cwd=self.out, stdout=handle, stderr=subprocess.STDOUT)
+        if result.returncode != 0:
+            lines = Path(log).read_text(errors="replace").splitlines()
+            errors = [line for line in lines if line.startswith("ERROR")]
+            raise RuntimeError(f"{deck} failed ({log}): {errors[0] if errors else lines[-3:]}")
+        return time.time() - started
+
+    def progress(self, text):
+        with self.lock:
+            self.done += 1
+            elapsed = time.time() - self.start
+            print(f"[{time.strftime('%H:%M:%S')}] {self.done}/{self.total} ({elapsed / 60:.1f} min) "
+                  f"{text}", flush=True)
+
+    def task(self, model, length, seed, widths):
+        """Build the pile if needed, then the discharges still missing."""
+        name = f"{model}_L{length:g}_s{seed}"
+        restart = self.out / "piles" / f"{name}.restart"
+        variables = self.common_variables(model, length, seed)
+        built = (model, width_key(length), width_key(seed)) in read_records(
+            self.piles_file, ("model", "L", "seed"))
+        if not (built and restart.exists()):
+            seconds = self.liggghts("in.build", {**variables, "pile": restart,
+                                                 "piles": self.piles_file},
+                                    self.out / "logs" / f"build_{name}.txt")
+            self.progress(f"built {name} in {seconds:.1f} s")
+        done = read_records(self.results_file, ("model", "L", "w", "seed"))
+        for w in widths:
+            if (model, width_key(length), width_key(w), width_key(seed)) in done:
+                continue
+            seconds = self.liggghts("in.discharge", {**variables, "pile": restart, "w": w,
+                                                     "results": self.results_file},
+                                    self.out / "logs" / f"discharge_{name}_w{w:g}.txt")
+            self.progress(f"{name} w={w:g}: {last_result(self.results_file, model, length, w, seed)}"
+                          f" ({seconds:.1f} s)")
+
+    def run(self):
+        a = self.args
+        (self.out / "piles").mkdir(parents=True, exist_ok=True)
+        (self.out / "logs").mkdir(parents=True, exist_ok=True)
+        ensure_header(self.piles_file, PILES_HEADER)
+        ensure_header(self.results_file, DISCHARGES_HEADER)
+        seeds = a.seed_list or prime_seeds(a.seeds, a.first_seed)
+        tasks = [(model, length, seed) for length in a.L for seed in seeds for model in a.models]
+        built = read_records(self.piles_file, ("model", "L", "seed"))
+        done = read_records(self.results_file, ("model", "L", "w", "seed"))
+        self.total = sum((0 if (m, width_key(length), width_key(s)) in built else 1) +
+                         sum(1 for w in a.widths
+                             if (m, width_key(length), width_key(w), width_key(s)) not in done)
+                         for m, length, s in tasks)
+        print(f"pile2d driver: {len(tasks)} piles x {len(a.widths)} widths, "
+              f"{self.total} runs to do, -j {a.jobs}, results in {self.results_file}", flush=True)
+        failures = []
+        with ThreadPoolExecutor(max_workers=a.jobs) as pool:
+            futures = {pool.submit(self.task, m, length, s, a.widths): (m, length, s)
+                       for m, length, s in tasks}
+            for future, what in futures.items():
+                try:
+                    future.result()
+                except RuntimeError as problem:
+                    failures.append(f"{what}: {problem}")
+                    print(f"FAILED {what}: {problem}", flush=True)
+        return failures
+
+
+def last_result(path, model, length, w, seed):
+    """'h=... n_out=...' of the record line of this sample, for the progress line."""
+    for line in reversed(Path(path).read_text().splitlines()):
+        words = line.split()
+        if (len(words) >= 6 and words[0] == model and width_key(words[1]) == width_key(length)
+                and width_key(words[2]) == width_key(w) and width_key(words[3]) == width_key(seed)):
+            return f"h={float(words[4]):.2f} n_out={words[5]}"
+    return "(no record)"
+
+
+def parse(argv):
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d_driver", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", required=True, help="directory for records, piles and logs")
+    parser.add_argument("--models", nargs="+", default=list(MODELS), choices=MODELS)
+    parser.add_argument("--L", nargs="+", type=float, required=True, help="substrate lengths (d)")
+    parser.add_argument("--widths", nargs="+", type=float, required=True, help="orifice widths (d)")
+    parser.add_argument("--seeds", type=int, default=10, help="number of piles per (model, L)")
+    parser.add_argument("--first-seed", dest="first_seed", type=int, default=FIRST_SEED,
+                        help="seeds are the primes from this one on")
+    parser.add_argument("--seed-list", dest="seed_list", nargs="+", type=int,
+                        help="explicit seeds (primes > 10000) instead of --seeds")
+    parser.add_argument("--dt-fraction", dest="dt_fraction", type=float, default=25)
+    parser.add_argument("--damping", type=float, default=0.3)
+    parser.add_argument("--rolling-damping", dest="rolling_damping", type=float, default=0.3)
+    parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
+                        help="any other deck variable, for both decks (repeatable)")
+    parser.add_argument("-j", "--jobs", type=int, default=1, help="tasks run at once")
+    parser.add_argument("--mpi", type=int, default=1, help="MPI ranks per LIGGGHTS run")
+    parser.add_argument("--nice", type=int, default=0, help="run LIGGGHTS under nice -n N")
+    args = parser.parse_args(argv)
+    for item in args.var:
+        if "=" not in item:
+            parser.error(f"--var {item}: expected NAME=VALUE")
+    if args.seed_list:
+        bad = [s for s in args.seed_list if s <= 10000 or not is_prime(s)]
+        if bad:
+            parser.error(f"--seed-list: not primes > 10000: {bad}")
+    return args
+
+
+def main(argv=None):
+    failures = Runner(parse(argv)).run()
+    if failures:
+        print(f"{len(failures)} task(s) failed", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -28,6 +28,7 @@
 #include "modify.h"
 #include "random_park.h"
 #include "rain_row.h"
+#include "silokit_args.h"
 #include "silokit_mpi.h"
 #include "update.h"
 
@@ -104,48 +105,48 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     }
     const char *value = arg[iarg+1];
     if (keyword == "seed") {
-      seed = integer(value, "seed");
+      seed = silokit::keyword_integer(this, error, value, "seed");
       if (seed <= 10000 || !MathExtraLiggghts::isPrime(seed))
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 (LIGGGHTS' random generator requires it)");
       delete random;
       random = new RanPark(lmp, value);
     } else if (keyword == "type") {
-      grain_type = integer(value, "type");
+      grain_type = silokit::keyword_integer(this, error, value, "type");
     } else if (keyword == "diameter") {
-      mean_diameter = number(value, "diameter");
+      mean_diameter = silokit::keyword_number(this, error, value, "diameter");
       if (!(mean_diameter > 0.0)) error->fix_error(FLERR, this, "'diameter' must be > 0");
     } else if (keyword == "polydispersity") {
-      polydispersity = number(value, "polydispersity");
+      polydispersity = silokit::keyword_number(this, error, value, "polydispersity");
       if (!(polydispersity >= 0.0 && polydispersity < 1.0))
         error->fix_error(FLERR, this, "'polydispersity' must be in [0, 1) (diameters uniform in d(1 -+ p))");
     } else if (keyword == "density") {
-      density = number(value, "density");
+      density = silokit::keyword_number(this, error, value, "density");
       if (!(density > 0.0)) error->fix_error(FLERR, this, "'density' must be > 0");
     } else if (keyword == "line") {
-      line_lo = number(arg[iarg+1], "line");
-      line_hi = number(arg[iarg+2], "line");
-      line_height = number(arg[iarg+3], "line");
+      line_lo = silokit::keyword_number(this, error, arg[iarg+1], "line");
+      line_hi = silokit::keyword_number(this, error, arg[iarg+2], "line");
+      line_height = silokit::keyword_number(this, error, arg[iarg+3], "line");
       if (!(line_hi > line_lo)) error->fix_error(FLERR, this, "'line x_lo x_hi y' needs x_hi > x_lo");
       have_line = true;
     } else if (keyword == "fill") {
-      fill = number(value, "fill");
+      fill = silokit::keyword_number(this, error, value, "fill");
       if (!(fill > 0.0 && fill < 1.0))
         error->fix_error(FLERR, this, "'fill' must be in (0, 1) (sum of diameters / row length)");
     } else if (keyword == "fall") {
-      fall = number(value, "fall");
+      fall = silokit::keyword_number(this, error, value, "fall");
       if (!(fall > 0.0)) error->fix_error(FLERR, this, "'fall' must be > 0");
       have_fall = true;
     } else if (keyword == "window") {
-      window = integer(value, "window");
+      window = silokit::keyword_integer(this, error, value, "window");
       if (window < 1) error->fix_error(FLERR, this, "'window' must be an integer >= 1 (rows)");
     } else if (keyword == "tolerance") {
-      tolerance = number(value, "tolerance");
+      tolerance = silokit::keyword_number(this, error, value, "tolerance");
       if (!(tolerance >= 0.0)) error->fix_error(FLERR, this, "'tolerance' must be >= 0");
     } else if (keyword == "max_grains") {
-      max_grains = integer(value, "max_grains");
+      max_grains = silokit::keyword_integer(this, error, value, "max_grains");
       if (max_grains < 0) error->fix_error(FLERR, this, "'max_grains' must be >= 0 (0: no limit)");
     } else if (keyword == "max_rows") {
-      max_rows = integer(value, "max_rows");
+      max_rows = silokit::keyword_integer(this, error, value, "max_rows");
       if (max_rows < 0) error->fix_error(FLERR, this, "'max_rows' must be >= 0 (0: no limit)");
     } else {
       const std::string message = "unknown keyword '" + keyword + "' (known: seed, type, diameter, "
@@ -176,27 +177,6 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
   if (line_lo < domain->boxlo[0] || line_hi > domain->boxhi[0] ||
       line_height - margin < domain->boxlo[1] || line_height + margin > domain->boxhi[1])
     error->fix_error(FLERR, this, "'line': the row of grains must lie inside the simulation box");
-}
-
-double FixInsertRain2d::number(const char *text, const char *keyword)
-{
-  char *end = NULL;
-  const double value = strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value)) {
-    const std::string message = std::string("'") + keyword + "' expects a number, got '" + text + "'";
-    error->fix_error(FLERR, this, message.c_str());
-  }
-  return value;
-}
-
-int FixInsertRain2d::integer(const char *text, const char *keyword)
-{
-  const double value = number(text, keyword);
-  if (value != std::floor(value) || std::fabs(value) > std::numeric_limits<int>::max()) {
-    const std::string message = std::string("'") + keyword + "' expects an integer, got '" + text + "'";
-    error->fix_error(FLERR, this, message.c_str());
-  }
-  return static_cast<int>(value);
 }
 
 /* ---------------------------------------------------------------------- */

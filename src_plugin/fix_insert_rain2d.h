@@ -81,8 +81,6 @@ class FixInsertRain2d : public Fix {
   int grains_per_row;
 
   void parse_arguments(int narg, char **arg);
-  double number(const char *text, const char *keyword);
-  int integer(const char *text, const char *keyword);
   enum RowState { row_falling, row_fallen, row_blocked };
   RowState last_row_state() const;
   int grains_present() const;

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 namespace silokit {
@@ -29,6 +30,18 @@ inline double keyword_number(LAMMPS_NS::Fix *fix, LAMMPS_NS::Error *error,
     error->fix_error(FLERR, fix, message.c_str());
   }
   return value;
+}
+
+// The integer `text` given to `keyword` of `fix`; a clear error otherwise.
+inline int keyword_integer(LAMMPS_NS::Fix *fix, LAMMPS_NS::Error *error,
+                           const char *text, const char *keyword)
+{
+  const double value = keyword_number(fix, error, text, keyword);
+  if (value != std::floor(value) || std::fabs(value) > std::numeric_limits<int>::max()) {
+    const std::string message = std::string("'") + keyword + "' expects an integer, got '" + text + "'";
+    error->fix_error(FLERR, fix, message.c_str());
+  }
+  return static_cast<int>(value);
 }
 
 }  // namespace silokit

@@ -30,10 +30,13 @@ import numpy as np
 from scipy import stats
 
 # w_c of the paper (section III), in d: model -> (value, uncertainty)
-PAPER_CRITICAL_WIDTH = {"none": (5.0, 0.1), "overlap": (5.3, 0.1), "fixed": (7.6, 0.2)}
-MODEL_LABELS = {"none": "no rolling resistance", "overlap": "k_r ~ l_c^2 (l_c from overlap)",
-                "fixed": "fixed l_c = 0.05 d"}
-MODEL_ORDER = ("none", "overlap", "fixed")
+# Both "overlap" (l_c = chord of the overlap) and "depth" (l_c = overlap
+# depth) are readings of the paper's "k_r ~ l_c^2" model (doc/pile2d.md).
+PAPER_CRITICAL_WIDTH = {"none": (5.0, 0.1), "overlap": (5.3, 0.1), "depth": (5.3, 0.1),
+                        "fixed": (7.6, 0.2)}
+MODEL_LABELS = {"none": "no rolling resistance", "overlap": "k_r ~ l_c^2 (l_c = overlap chord)",
+                "depth": "k_r ~ l_c^2 (l_c = overlap depth)", "fixed": "fixed l_c = 0.05 d"}
+MODEL_ORDER = ("none", "overlap", "depth", "fixed")
 
 
 # ---------------------------------------------------------------- reading
@@ -286,7 +289,7 @@ def make_plots(summary, out, fig_length=None):
     written = []
     # Fig. 4: h and its fluctuation against w, at the largest L of each model
     fig, ax = plt.subplots(figsize=(6, 4))
-    styles = {"none": ("o", "--"), "overlap": ("s", "-"), "fixed": ("^", "-")}
+    styles = {"none": ("o", "--"), "overlap": ("s", "-"), "depth": ("D", ":"), "fixed": ("^", "-")}
     for model, entry in summary.items():
         lengths = sorted(entry["lengths"])
         length = fig_length if fig_length in entry["lengths"] else lengths[-1]

@@ -29,7 +29,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 INPUTS = ROOT / "inputs"
 BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
-MODELS = ("none", "overlap", "fixed")
+MODELS = ("none", "overlap", "depth", "fixed")
 FIRST_SEED = 15485863
 PILES_HEADER = ("# model L seed n_pile h0 rows inserted t_rain t_end status dt_fraction "
                 "damping rolling_damping pile")

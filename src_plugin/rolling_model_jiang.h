@@ -71,7 +71,7 @@ namespace ContactModels
         RollingModelBase(lmp, hsetup, c),
         coefficient_friction(NULL), fixed_contact_length(NULL), rolling_damping_ratio(NULL),
         stiffness_factor(1.0), friction_factor(1.0),
-        contact_length_from_overlap(false), rolling_damping(false)
+        contact_length_from_overlap(false), contact_length_from_depth(false), rolling_damping(false)
     {
       // accumulated relative rolling angle, a vector in the tangent plane;
       // newton flag "1": it changes sign when i and j swap
@@ -89,6 +89,7 @@ namespace ContactModels
       settings.registerDoubleSetting("rollingStiffnessFactor", stiffness_factor, 1.0);
       settings.registerDoubleSetting("rollingFrictionFactor", friction_factor, 1.0);
       settings.registerOnOff("contactLengthFromOverlap", contact_length_from_overlap, false);
+      settings.registerOnOff("contactLengthFromDepth", contact_length_from_depth, false);
       settings.registerOnOff("rollingDamping", rolling_damping, false);
     }
 
@@ -99,13 +100,16 @@ namespace ContactModels
         error->all(FLERR, "rolling_friction jiang: rollingStiffnessFactor must be > 0");
       if (!(friction_factor > 0.0))
         error->all(FLERR, "rolling_friction jiang: rollingFrictionFactor must be > 0");
+      if (contact_length_from_overlap && contact_length_from_depth)
+        error->all(FLERR, "rolling_friction jiang: contactLengthFromOverlap and contactLengthFromDepth "
+                          "exclude each other (l_c is the overlap's chord or its depth)");
     }
 
     void connectToProperties(PropertyRegistry & registry)
     {
       registry.registerProperty("coeffFrict", &MODEL_PARAMS::createCoeffFrict);
       registry.connect("coeffFrict", coefficient_friction, "rolling_friction jiang");
-      if (!contact_length_from_overlap) {
+      if (!contact_length_from_overlap && !contact_length_from_depth) {
         registry.registerProperty("rollingContactLength", &MODEL_PARAMS::createRollingContactLength);
         registry.connect("rollingContactLength", fixed_contact_length, "rolling_friction jiang");
       }
@@ -196,7 +200,8 @@ namespace ContactModels
     double ** rolling_damping_ratio;
     double stiffness_factor;
     double friction_factor;
-    bool contact_length_from_overlap;
+    bool contact_length_from_overlap;   // l_c = the chord (2D) or diameter (3D) of the overlap
+    bool contact_length_from_depth;     // l_c = the overlap depth delta_n
     bool rolling_damping;
     int history_offset;
 
@@ -216,6 +221,8 @@ namespace ContactModels
 
     inline double contactLength(const SurfacesIntersectData & sidata) const
     {
+      // the contact's deformation itself: the normal overlap delta_n
+      if (contact_length_from_depth) return std::max(sidata.deltan, 0.0);
       if (contact_length_from_overlap)
         return sidata.is_wall
           ? silokit::jiang::wall_overlap_contact_length(sidata.radi, sidata.deltan)

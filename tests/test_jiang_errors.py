@@ -87,12 +87,13 @@ WHERE = ["pair", "wall"]
     # l_c equal to the diameter is allowed ("not larger than")
     ("", per_pair("rollingContactLength", 2 * RADIUS)),
     ("contactLengthFromOverlap on", ""),
+    ("contactLengthFromDepth on", ""),
     ("contactLengthFromOverlap off rollingStiffnessFactor 0.5 rollingFrictionFactor 2",
      per_pair("rollingContactLength", CONTACT_LENGTH)),
     ("rollingDamping on", per_pair("rollingContactLength", CONTACT_LENGTH)
      + per_pair("coefficientRollingViscousDamping", 0.3)),
     ("rollingDamping off", per_pair("rollingContactLength", CONTACT_LENGTH)),
-], ids=["fixed", "lc_equals_diameter", "overlap", "factors", "damping_on", "damping_off"])
+], ids=["fixed", "lc_equals_diameter", "overlap", "depth", "factors", "damping_on", "damping_off"])
 def test_good_input_runs(tmp_path, where, settings, properties):
     output = run_deck(deck(where, settings, properties), tmp_path)
     assert "Loop time" in output
@@ -186,11 +187,18 @@ def test_factor_not_positive(tmp_path, where, keyword, value):
 # ------------------------------------------------------ on/off keywords
 
 @pytest.mark.parametrize("where", WHERE)
-@pytest.mark.parametrize("keyword", ["contactLengthFromOverlap", "rollingDamping"])
+@pytest.mark.parametrize("keyword", ["contactLengthFromOverlap", "contactLengthFromDepth", "rollingDamping"])
 def test_on_off_unknown_value(tmp_path, where, keyword):
     message = refused(tmp_path, deck(where, f"{keyword} maybe"))
     assert f"while parsing '{keyword}' argument" in message
     assert "'maybe'" in message
+
+
+@pytest.mark.parametrize("where", WHERE)
+def test_overlap_and_depth_exclude_each_other(tmp_path, where):
+    message = refused(tmp_path, deck(where, "contactLengthFromOverlap on contactLengthFromDepth on",
+                                     properties=""))
+    assert "contactLengthFromOverlap and contactLengthFromDepth exclude each other" in message
 
 
 @pytest.mark.parametrize("where", WHERE)

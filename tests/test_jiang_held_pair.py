@@ -80,11 +80,15 @@ def measured_torque(path):
     return tz1, tz2, txy
 
 
-@pytest.mark.parametrize("mode", ["fixed", "overlap"])
+@pytest.mark.parametrize("mode", ["fixed", "overlap", "depth"])
 def test_torque_loads_saturates_and_unloads(run, tmp_path, mode):
     if mode == "fixed":
         settings, properties = "", per_pair("rollingContactLength", FIXED_LENGTH)
         contact_length = FIXED_LENGTH
+    elif mode == "depth":
+        # l_c = the overlap depth delta_n = 1e-4 m
+        settings, properties = "contactLengthFromDepth on", ""
+        contact_length = 2 * RADIUS - DISTANCE
     else:
         settings, properties = "contactLengthFromOverlap on", ""
         # chord of two equal circles whose centres are DISTANCE apart

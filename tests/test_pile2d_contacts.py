@@ -136,4 +136,4 @@ def test_an_unknown_model_is_an_error(run):
     with pytest.raises(LiggghtsError) as caught:
         run(disc_on_disc_deck("rough", 0.0))
     assert "Label wasn't found" in caught.value.message
-    assert "rolling model rough (known: none, overlap, fixed)" in caught.value.output
+    assert "rolling model rough (known: none, overlap, depth, fixed)" in caught.value.output

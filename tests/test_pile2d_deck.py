@@ -174,7 +174,7 @@ def test_rolling_resistance_holds_the_pile_over_the_orifice(tmp_path):
 
 @pytest.mark.parametrize("name, variables, expected", [
     ("in.build", {"L": 20.05}, "in.build: ERROR: L = 20.05 must be a multiple of substrate_d = 0.1"),
-    ("in.build", {"quick": 1, "model": "rough"}, "rolling model rough (known: none, overlap, fixed)"),
+    ("in.build", {"quick": 1, "model": "rough"}, "rolling model rough (known: none, overlap, depth, fixed)"),
     ("in.discharge", {"w": -1}, "in.discharge: ERROR: w = -1 must be > 0"),
 ])
 def test_bad_deck_values_stop_with_an_error(tmp_path, name, variables, expected):

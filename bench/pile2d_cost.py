@@ -3,7 +3,7 @@
 doc/pile2d.md). Writes doc/accuracy_cost_pile2d.md and
 bench/results/pile2d_cost.txt.
 
-1. Time per step of the three contact models on one configuration: a pile
+1. Time per step of the contact models (none, overlap, depth, fixed) on one configuration: a pile
    of L = 50 d built with the fixed-l_c model (in.build, seed 15485863) is
    recreated atom by atom from its dump (no contact history) and run with
    each model's contacts (inputs/pile2d/contacts.in), at rest and while it
@@ -41,7 +41,7 @@ from analysis.lammps_io import read_dump  # noqa: E402
 from analysis.pile2d import read_discharges  # noqa: E402
 
 INPUTS = benchlib.ROOT / "inputs"
-MODELS = ("none", "overlap", "fixed")
+MODELS = ("none", "overlap", "depth", "fixed")
 SEED = 15485863
 
 
@@ -207,7 +207,7 @@ def main():
 Written by `bench/pile2d_cost.py` (see `bench/README.md`); the scene is
 described in [pile2d.md](pile2d.md). Raw numbers: `bench/results/pile2d_cost.txt`.
 
-## Time per step of the three contact models
+## Time per step of the contact models
 
 One pile of {grains} grains (L = {50 if not args.quick else 30} d, built with the fixed-l_c model)
 recreated atom by atom (no contact history) and run with each model's

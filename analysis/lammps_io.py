@@ -1,5 +1,6 @@
-"""Readers for LIGGGHTS text output: `dump custom` / `dump local` files and
-`fix print` / `fix ave/time` style tables with a `#` header."""
+"""Readers for LIGGGHTS text output: `dump custom` / `dump local` files,
+`fix print` / `fix ave/time` style tables with a `#` header, and the
+thermo table of a run's screen output."""
 
 import itertools
 
@@ -79,3 +80,25 @@ def read_table(path):
         raise ValueError(f"{path}: no '#' header line naming the columns")
     data = np.array(rows, dtype=float).reshape(len(rows), len(names))
     return {name: data[:, i] for i, name in enumerate(names)}
+
+
+def thermo_rows(output, columns):
+    """step -> the other values of each thermo line with `columns` numbers
+    (Step first) in a run's screen output; lines that are not all numbers
+    inside a table (a fix's messages, warnings) are skipped, and a table
+    ends at its `Loop time` line."""
+    rows, inside = {}, False
+    for line in output.splitlines():
+        words = line.split()
+        if words[:2] == ["Step", "Atoms"]:
+            inside = True
+            continue
+        if inside:
+            try:
+                values = [float(w) for w in words]
+            except ValueError:
+                inside = not line.startswith("Loop time")
+                continue
+            if len(values) == columns:
+                rows[int(values[0])] = values[1:]
+    return rows

@@ -15,7 +15,7 @@ import pytest
 from scipy import stats
 
 from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump
+from analysis.lammps_io import read_dump, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
 D = 1.0
@@ -56,26 +56,6 @@ dump_modify d format "%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g"
 run {steps}
 {tail}
 """
-
-
-def thermo_rows(output):
-    """step -> [atoms, inserted, rows, reason, present, growth]; the fix's
-    own message lines inside the table are skipped."""
-    rows, inside = {}, False
-    for line in output.splitlines():
-        words = line.split()
-        if words[:2] == ["Step", "Atoms"]:
-            inside = True
-            continue
-        if inside:
-            try:
-                values = [float(w) for w in words]
-            except ValueError:
-                inside = not line.startswith("Loop time")
-                continue
-            if len(values) == 7:
-                rows[int(values[0])] = values[1:]
-    return rows
 
 
 def first_appearances(frames):
@@ -174,7 +154,7 @@ def test_grains_below_the_box_are_deleted(falling_rows):
             last_seen[grain] = c["y"][k]
     assert all(last_seen[g] < 0.2 for g in gone)
     # LIGGGHTS' atom count and the fix's count agree with the dump
-    thermo = thermo_rows(output)
+    thermo = thermo_rows(output, 7)
     final = thermo[max(thermo)]
     assert final[0] == len(last_ids)
     assert final[1] == len(born)
@@ -208,7 +188,7 @@ def test_stops_when_the_count_is_stationary(run):
     samples average at most (1 + tolerance) times the `window` before."""
     window, tolerance = 3, 0.01
     output = run(rain_deck(20000, f"window {window} tolerance {tolerance}", dump_every=100000))
-    thermo = thermo_rows(output)
+    thermo = thermo_rows(output, 7)
     steps = sorted(thermo)
     # a release shows as a step where the inserted count grows; the attempt
     # that stopped the rain as the step where the stop reason is set
@@ -234,7 +214,7 @@ def test_stops_when_the_count_is_stationary(run):
 
 @pytest.mark.parametrize("option, reason, rows", [("max_rows 3", 3, 3), ("max_grains 12", 2, 2)])
 def test_stops_at_the_limits(run, option, reason, rows):
-    thermo = thermo_rows(run(rain_deck(4000, option, dump_every=100000)))
+    thermo = thermo_rows(run(rain_deck(4000, option, dump_every=100000)), 7)
     final = thermo[max(thermo)]
     assert final[3] == reason and final[2] == rows and final[1] == rows * PER_ROW
 
@@ -245,7 +225,7 @@ def test_a_pile_at_the_line_stops_the_release(run):
     row comes to rest on it or a new row would overlap it."""
     blocker = "create_atoms 2 single 0.3 9.2 0 units box\nset type 2 diameter 1.0 density 1.0"
     output = run(rain_deck(3000, "fill 0.9", dump_every=100000, substrate=blocker))
-    thermo = thermo_rows(output)
+    thermo = thermo_rows(output, 7)
     assert thermo[max(thermo)][3] == 4
     assert "the pile has reached the release line" in output
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump, read_table
+from analysis.lammps_io import read_dump, read_table, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
 DIAMETER = 0.01
@@ -74,25 +74,6 @@ run {steps}
 """
 
 
-def thermo_rows(output):
-    """step -> (atoms, out[1..5]) from the thermo table."""
-    rows, inside = {}, False
-    for line in output.splitlines():
-        words = line.split()
-        if words[:2] == ["Step", "Atoms"]:
-            inside = True
-            continue
-        if inside:
-            try:
-                values = [float(w) for w in words]
-            except ValueError:
-                inside = False
-                continue
-            if len(values) == 7:
-                rows[int(values[0])] = values[1:]
-    return rows
-
-
 def reentries(frames):
     """(step, id, columns-of-that-frame, row) for every grain that jumped from
     the exit plane up into the injection region between two frames. Such a
@@ -125,7 +106,7 @@ def test_count_never_changes_and_every_exit_is_counted(rain):
     assert len({grain for _, grain, _, _ in events}) == N_GRAINS
     assert len(events) > 1.5 * N_GRAINS
 
-    rows = thermo_rows(output)
+    rows = thermo_rows(output, 7)
     last = max(rows)
     atoms, grains_out, mass_out, avalanche = rows[last][:4]
     assert atoms == N_GRAINS
@@ -172,7 +153,7 @@ def test_flow_rate_is_the_count_over_the_window(rain):
     counts over the last rate_window of simulated time."""
     workdir, output, _ = rain
     table = read_table(workdir / "exits.txt")
-    rows = thermo_rows(output)
+    rows = thermo_rows(output, 7)
     window_steps = round(RATE_WINDOW / DT)
 
     def count_at(step):
@@ -216,7 +197,7 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
 def test_counts_survive_a_restart(run, tmp_path):
     output = run(rain_deck(steps=2100, dump_every=100000, tail="write_restart rain.restart"),
                  subdir="first")
-    before = thermo_rows(output)[2100]
+    before = thermo_rows(output, 7)[2100]
     resumed = f"""
 units si
 atom_modify map array
@@ -233,7 +214,7 @@ thermo_style custom step atoms f_out[1] f_out[2] f_out[3] f_out[4] f_out[5]
 thermo_modify format float %.15g
 run 0
 """
-    after = thermo_rows(run(resumed, subdir="second"))[2100]
+    after = thermo_rows(run(resumed, subdir="second"), 7)[2100]
     assert before[1] == N_GRAINS        # the first wave is through
     assert after[:4] == before[:4]
 

@@ -314,10 +314,10 @@ def make_plots(summary, out, fig_length=None):
         c = entry["critical"]
         x = 1.0 / np.array(c["L"])
         marker, _ = styles.get(model, ("x", ":"))
-        ax.errorbar(x, c["w_t"], yerr=c["w_t_sigma"], fmt=marker, capsize=3, label=model)
+        points = ax.errorbar(x, c["w_t"], yerr=c["w_t_sigma"], fmt=marker, capsize=3, label=model)
         if "w_c" in c:
             line = np.linspace(0, x.max() * 1.05, 20)
-            ax.plot(line, c["w_c"] + c["slope"] * line, "-", lw=0.8)
+            ax.plot(line, c["w_c"] + c["slope"] * line, "-", lw=0.8, color=points.lines[0].get_color())
     ax.set_xlabel("1 / L  (1/d)")
     ax.set_ylabel("w_t / d")
     ax.set_xlim(left=0)

@@ -397,8 +397,8 @@ def test_aligned_rods_have_order_one_and_isotropic_a_third():
     assert np.trace(isotropic["orientation"][0]) == pytest.approx(1.0, abs=1e-12)
     # each entry of O scatters by ~sqrt((1/5 - 1/9)/N) = 0.002 about its
     # isotropic value; the largest eigenvalue is biased up by about that
+    # (S, the largest eigenvalue of O, is >= 1/3 for any set of directions)
     assert isotropic["nematic_order"][0] == pytest.approx(1 / 3, abs=0.012)
-    assert isotropic["nematic_order"][0] > 1 / 3
 
 
 def test_radial_rods_give_O_rr_one_after_azimuthal_averaging():

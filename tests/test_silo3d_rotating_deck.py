@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_table
+from analysis.silo3d_rotating import stationary_flow_rate
 from conftest import ROOT, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -47,15 +48,11 @@ def run_parameters(path):
 
 
 def flow_rate(record, t_open):
-    """Least-squares slope of the discharged mass against time after the
-    start-up, and its uncertainty from the count of grains out: the slope's
-    relative error is taken as 1/sqrt(n) (a Poisson count; a flowing
-    granular outflow is more regular than that, so this overstates it)."""
-    late = record["t"] >= t_open + SKIP_AFTER_OPEN
-    t, mass = record["t"][late], record["mass_out"][late]
-    slope = np.polyfit(t, mass, 1)[0]
-    grains = (mass[-1] - mass[0]) / MASS
-    return slope, slope / math.sqrt(max(grains, 1.0))
+    """The analysis' stationary flow rate (analysis.silo3d_rotating) after
+    the start-up, with its standard error from block averages."""
+    flow = stationary_flow_rate(record["t"], record["n_out"], record["mass_out"],
+                                t_open + SKIP_AFTER_OPEN, record["t"][-1])
+    return flow.q_mass, flow.q_mass_se
 
 
 @pytest.fixture(scope="module")

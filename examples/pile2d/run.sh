@@ -1,8 +1,8 @@
 #!/bin/bash
 # A small ensemble of the open 2D pile (inputs/pile2d, Magalhaes et al.
-# 2014): piles of L = 20 d for the three contact models, each discharged at
-# several widths, then h(w), w_t and the paper's Figs. 4-6 with
-# analysis/pile2d.py. About 3 min of CPU on one core.
+# 2014): piles of L = 20 d for the four contact models (none, overlap,
+# depth, fixed), each discharged at several widths, then h(w), w_t and the
+# paper's Figs. 4-6 with analysis/pile2d.py. About 4 min of CPU on one core.
 #
 #   bash examples/pile2d/run.sh [RUN_DIR]
 #
@@ -10,7 +10,7 @@
 # "20 30" gives w_c from a fit in 1/L too), JOBS (runs at once, default 1).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
-RUN_DIR="${1:-$ROOT/examples/pile2d/run}"
+RUN_DIR="${1:-$ROOT/examples/pile2d/runs}"
 SEEDS="${SEEDS:-6}"
 L="${L:-20}"
 JOBS="${JOBS:-1}"

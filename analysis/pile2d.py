@@ -171,10 +171,12 @@ def fit_critical_width(lengths, thresholds, sigmas=None):
 
 def critical_width(tables, replicates, rng):
     """From {L: (widths, table)} (sizes with fewer than 2 piles left out):
-    w_t(L), its bootstrap std, and w_c three ways: weighted fit of the w_t values (weights from the bootstrap std,
-    floored at a quarter of the smallest width step so that a w_t that never
-    moved in the bootstrap does not take all the weight), and the mean and
-    std of w_c over joint bootstrap replicates. Needs 2 lengths or more."""
+    w_t(L), its bootstrap std, and w_c: a weighted fit of the w_t values in
+    1/L (weights from the bootstrap std, floored at a quarter of the
+    smallest width step so that a w_t that never moved in the bootstrap
+    does not take all the weight), its standard error, and the mean and std
+    of the same fit over joint bootstrap replicates (every size resampled
+    at once). Needs 2 lengths or more."""
     # a size with fewer than 2 piles has no fluctuation to locate
     lengths = sorted(length for length, (_, table) in tables.items()
                      if np.sum(np.any(~np.isnan(table), axis=1)) >= 2)
@@ -190,7 +192,9 @@ def critical_width(tables, replicates, rng):
               "w_t_replicates": replicas}
     if len(lengths) >= 2:
         w_c, slope, se_c, se_slope = fit_critical_width(lengths, thresholds, spreads)
-        joint = np.array([fit_critical_width(lengths, [r[k] for r in replicas])[0]
+        # the same weighted fit on each joint replicate: the spread of the
+        # reported estimator
+        joint = np.array([fit_critical_width(lengths, [r[k] for r in replicas], spreads)[0]
                           for k in range(replicates)])
         # chi^2 per degree of freedom of the weighted fit: above 1 the w_t
         # scatter more than their bootstrap errors say, and the standard
@@ -232,10 +236,11 @@ def summarize(rows, replicates=2000, seed=1, settled_only=False):
     return summary
 
 
-def format_report(summary, rows):
+def format_report(summary, rows, settled_only=False):
+    unsettled = sum(1 for r in rows if r.get("status", 1) != 1)
     lines = ["# Open 2D pile: h(w), w_t(L), w_c", "",
-             f"{len(rows)} discharges; {sum(1 for r in rows if r.get('status', 1) != 1)} "
-             "did not reach equilibrium within max_time (kept).", ""]
+             f"{len(rows)} discharges; {unsettled} did not reach equilibrium within max_time "
+             f"({'left out' if settled_only else 'kept'}).", ""]
     lines += ["## Threshold and critical widths", "",
               "| model | L | piles | w_t (d) | bootstrap std (d) |", "|---|---|---|---|---|"]
     for model, entry in summary.items():
@@ -379,7 +384,7 @@ def main(argv=None):
     out = args.out or args.results.parent / "pile2d_analysis"
     out.mkdir(parents=True, exist_ok=True)
     summary = summarize(rows, args.bootstrap, args.seed, args.settled_only)
-    report = format_report(summary, rows)
+    report = format_report(summary, rows, args.settled_only)
     (out / "summary.md").write_text(report)
     written = make_plots(summary, out, args.fig_length)
     print(report)

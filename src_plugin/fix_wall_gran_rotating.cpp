@@ -163,7 +163,8 @@ void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
       hole_radius = 0.5*diameter;
     } else if (keyword == "center") {
       // a point of the axis: only its position in the plane matters (its
-      // coordinate along the normal is checked, then the plane's is kept)
+      // coordinate along the normal must parse but is ignored: the plane's
+      // coordinate is kept)
       for (int k = 0; k < 3; ++k) {
         const double coordinate = silokit::keyword_number(this, error, arg[i+1+k], "center");
         if (k != normal) centre[k] = coordinate;

@@ -32,6 +32,7 @@
 #include "silokit_mpi.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -205,19 +206,23 @@ void FixInsertRain2d::init()
 }
 
 /* ----------------------------------------------------------------------
-   the first row falls on the first step of the first run; a release that
-   was pending when the previous run ended (or was written to a restart
-   file) happens on its step
+   the first row falls on the first step of the first run. Between runs a
+   release that is pending (or was written to a restart file) is always due
+   on the next step, since end_of_step schedules it for the step after its
+   own, and the last release lies in the past. reset_timestep, before or
+   after read_restart, moves the step counter either way: both steps are
+   therefore set again from the step this run starts at. (Left as they
+   were, a backward reset would put the release far in the future and keep
+   the row from counting as having moved, which the blocked-line test
+   needs: the rain would stall.)
 ------------------------------------------------------------------------- */
 
 void FixInsertRain2d::setup(int)
 {
   if (stop_reason != still_raining) return;
-  if (rows == 0 && release_step < 0) release_step = update->ntimestep + 1;
-  // a release due before this run's first step (e.g. after reset_timestep)
-  // happens on that step
-  if (release_step >= 0 && release_step <= update->ntimestep) release_step = update->ntimestep + 1;
-  if (release_step > update->ntimestep) next_reneighbor = release_step;
+  if (release_step >= 0 || rows == 0) release_step = update->ntimestep + 1;
+  last_release_step = std::min(last_release_step, update->ntimestep);
+  if (release_step >= 0) next_reneighbor = release_step;
 }
 
 /* ----------------------------------------------------------------------

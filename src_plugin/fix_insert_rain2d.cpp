@@ -94,7 +94,7 @@ FixInsertRain2d::~FixInsertRain2d()
 
 void FixInsertRain2d::parse_arguments(int narg, char **arg)
 {
-  bool have_line = false, have_fall = false;
+  bool have_type = false, have_line = false, have_fall = false;
   int iarg = 3;
   while (iarg < narg) {
     const std::string keyword(arg[iarg]);
@@ -113,6 +113,7 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
       random = new RanPark(lmp, value);
     } else if (keyword == "type") {
       grain_type = silokit::keyword_integer(this, error, value, "type");
+      have_type = true;
     } else if (keyword == "diameter") {
       mean_diameter = silokit::keyword_number(this, error, value, "diameter");
       if (!(mean_diameter > 0.0)) error->fix_error(FLERR, this, "'diameter' must be > 0");
@@ -157,7 +158,7 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     iarg += values + 1;
   }
   if (!random) error->fix_error(FLERR, this, "'seed <prime > 10000>' is required");
-  if (grain_type == 0) error->fix_error(FLERR, this, "'type <atom type>' is required");
+  if (!have_type) error->fix_error(FLERR, this, "'type <atom type>' is required");
   if (grain_type < 1 || grain_type > atom->ntypes) {
     std::ostringstream message;
     message << "'type' must be an atom type from 1 to " << atom->ntypes;

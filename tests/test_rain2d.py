@@ -409,6 +409,8 @@ def refused(run, options, **deck_options):
     (GOOD.replace(f"seed {SEED}", "seed abc"), "'seed' expects a number, got 'abc'"),
     (GOOD.replace("type 1 ", ""), "'type <atom type>' is required"),
     (GOOD.replace("type 1", "type 3"), "'type' must be an atom type from 1 to 2"),
+    (GOOD.replace("type 1", "type 0"), "'type' must be an atom type from 1 to 2"),
+    (GOOD.replace("type 1", "type -1"), "'type' must be an atom type from 1 to 2"),
     (GOOD.replace("type 1", "type 1.5"), "'type' expects an integer, got '1.5'"),
     (GOOD.replace("diameter 1.0 ", ""), "'diameter <mean diameter>' is required"),
     (GOOD.replace("diameter 1.0", "diameter -1"), "'diameter' must be > 0"),

@@ -56,7 +56,7 @@ const int restart_scalars = 10;
 
 FixInsertRain2d::FixInsertRain2d(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  seed(0), grain_type(0), mean_diameter(0.0), polydispersity(0.05), density(0.0),
+  grain_type(0), mean_diameter(0.0), polydispersity(0.05), density(0.0),
   line_lo(0.0), line_hi(0.0), line_height(0.0), fill(0.5), fall(-1.0),
   window(10), tolerance(0.01), max_grains(0), max_rows(0),
   random(NULL), next_tag(0), rows(0), inserted(0), stop_reason(still_raining),
@@ -106,7 +106,7 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     }
     const char *value = arg[iarg+1];
     if (keyword == "seed") {
-      seed = silokit::keyword_integer(this, error, value, "seed");
+      const int seed = silokit::keyword_integer(this, error, value, "seed");
       if (seed <= 10000 || !MathExtraLiggghts::isPrime(seed))
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 (LIGGGHTS' random generator requires it)");
       delete random;

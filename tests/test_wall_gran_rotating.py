@@ -3,8 +3,8 @@ the silo axis.
 
 (a) Peer: without hole and rotation the plate is the stock primitive plane:
     trajectories of grains bouncing, sliding and rolling on it are
-    identical to those on `fix wall/gran ... primitive zplane`, for Hooke,
-    Hooke with rolling_friction jiang, and Hertz.
+    identical, bit for bit, to those on `fix wall/gran ... primitive
+    zplane`, for Hooke, Hooke with rolling_friction jiang, and Hertz.
 (b) Rotation, analytic: a grain that cannot roll (`fix nve`: its spin is
     never integrated) is dragged into co-rotation, tangential speed Omega r;
     a sphere that rolls without slipping obeys the turntable theorem
@@ -19,7 +19,8 @@ the silo axis.
     falls through; a sphere rolling over the rim and fast impacts on the
     rim edge and on the plate never tunnel, never gain energy, and the force
     on the plate changes continuously. The 2D slot does the same.
-(e) Two MPI ranks reproduce one; a restart continues a loaded contact exactly.
+(e) Two MPI ranks reproduce one bit for bit; a restart continues a loaded
+    contact exactly.
 (f) Bad input: a clear ERROR naming the keyword.
 """
 
@@ -149,9 +150,9 @@ def test_plate_without_hole_or_rotation_is_the_stock_plane(run, tmp_path, name):
     assert np.all(np.hypot(ours[-1][1]["x"] - ours[0][1]["x"], ours[-1][1]["y"] - ours[0][1]["y"]) > 1e-3)
     assert len(ours) == len(stock) == 201
     for (_, a), (_, b) in zip(ours, stock):
+        # bit for bit: both loops do the same arithmetic (dumped with 17 digits)
         for column in ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"):
-            np.testing.assert_allclose(a[column], b[column], rtol=0, atol=1e-13,
-                                       err_msg=f"{name}: {column}")
+            np.testing.assert_array_equal(a[column], b[column], err_msg=f"{name}: {column}")
 
 
 # ---------------------------------------------------------------- (b) rotation
@@ -444,7 +445,7 @@ def test_two_ranks_reproduce_one(run, tmp_path):
         for column in ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"):
             deviation = np.max(np.abs(a[column] - b[column]))
             print(f"step {step1} {column}: {deviation:.2e}")
-            assert deviation < 1e-10, column
+            assert deviation == 0.0, column            # bit for bit
 
 
 def test_restart_continues_a_loaded_wall_contact_exactly(run, tmp_path):

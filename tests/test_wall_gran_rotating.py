@@ -473,6 +473,93 @@ def test_restart_continues_a_loaded_wall_contact_exactly(run, tmp_path):
     assert speed[-1] == pytest.approx(OMEGA * R0, rel=1e-2)   # undamped: oscillates a little about it
 
 
+# Times of the schedule across restarts: LIGGGHTS 3.8 restarts its clock
+# at 0 after read_restart; the fix keeps the time reached in its restart data.
+SWITCH = 0.100005              # start and open: half-way between two steps
+SCHEDULE_STEPS = 20000
+RESTING = RADIUS - MASS_3D * G / KN
+SCHEDULE_DUMP = ("dump grains all custom 100 dump.grains id x y z vx vy vz\n"
+                 "dump_modify grains sort id format \"%d %.17g %.17g %.17g %.17g %.17g %.17g\"\n"
+                 "variable step equal step\n"
+                 "fix schedule all print 100 \"${step} ${om}\" file schedule.txt screen no\n"
+                 "thermo_modify lost ignore")
+
+
+def schedule_piece(steps, restart_file=None):
+    """Grain 1 rests over the hole of the closed plate (it falls once the
+    hole opens), grain 2 at R0 on the plate (fix nve: it is carried along
+    once the plate turns); plate open and turning from SWITCH. Without
+    damping, so that a restart continues exactly (see the test above).
+    steps None: read the restart file and write it again, without a run."""
+    wall = plate(f"orifice {HOLE} frequency {FREQUENCY} start {SWITCH} open {SWITCH}")
+    grains = one_atom(0.5 * HOLE_RADIUS, 0.0, RESTING) + "\n" + one_atom(R0, 0.0, RADIUS)
+    text = deck(grains, wall, steps or 0, integrate="nve", record_every=100000, extra=SCHEDULE_DUMP,
+                materials=hooke_materials(KN, 2.0 / 7.0 * KN, mu=0.5), restart_file=restart_file)
+    if steps is None:
+        text = text.replace("\nrun 0\n", "\n")
+    return text + "write_restart state.restart\n"
+
+
+def schedule_frames(directories):
+    """step -> dump frame and step -> angular velocity of the plate, over
+    the pieces of a run (a restart's first frame repeats the last one)."""
+    frames, omegas = {}, {}
+    for directory in directories:
+        if (directory / "dump.grains").exists():
+            frames.update(read_dump(directory / "dump.grains"))
+        for line in open(directory / "schedule.txt"):   # the title only when nothing ran
+            if not line.startswith("#"):
+                step, omega = line.split()
+                omegas[int(step)] = float(omega)
+    return frames, omegas
+
+
+@pytest.mark.parametrize("pieces", [
+    (6000, 14000),               # restart before start/open
+    (14000, 6000),               # restart after start/open
+    (4000, 4000, 12000),         # two restarts before: the offset accumulates
+    (6000, None, 14000),         # written again right after read_restart, without a run
+], ids=["before", "after", "twice-before", "rewritten-before-a-run"])
+def test_a_restarted_run_keeps_the_schedule(run, tmp_path, pieces):
+    """The schedule is in the simulated time of the whole run: with start =
+    open = SWITCH, grain 1 stays at rest over the closed hole until then and
+    falls through it after, grain 2 is at rest until then and carried at
+    Omega R0 after; a run cut into pieces by write_restart/read_restart (the
+    same fix ID and arguments) does step for step what the uninterrupted
+    run does. (LIGGGHTS 3.8's time restarts at 0 after read_restart: compared
+    with it, the plate would open and turn SWITCH after each restart.)"""
+    run(schedule_piece(SCHEDULE_STEPS), subdir="whole")
+    frames, omegas = schedule_frames([tmp_path / "whole"])
+    assert len(frames) == SCHEDULE_STEPS // 100 + 1 and len(omegas) == SCHEDULE_STEPS // 100
+    for step, grains in frames.items():
+        before = step * DT < SWITCH
+        # (printed with 15 digits)
+        assert omegas.get(step, 0.0) == (0.0 if before else pytest.approx(OMEGA, rel=1e-14)), step
+        speed = np.hypot(grains["vx"][1], grains["vy"][1])
+        if before:
+            assert abs(grains["z"][0] - RESTING) < 1e-8 and abs(grains["vz"][0]) < 1e-6, step
+            assert speed < 1e-12, step
+    last = frames[SCHEDULE_STEPS]
+    assert last["z"][0] < -RADIUS                                # fell through the hole
+    # carried along (undamped: the static friction spring oscillates a little)
+    assert np.hypot(last["vx"][1], last["vy"][1]) == pytest.approx(OMEGA * R0, rel=0.05)
+
+    previous = None
+    directories = []
+    for k, steps in enumerate(pieces):
+        directory = f"piece{k}"
+        restart_file = f"../{previous}/state.restart" if previous else None
+        run(schedule_piece(steps, restart_file), subdir=directory)
+        directories.append(tmp_path / directory)
+        previous = directory
+    pieced_frames, pieced_omegas = schedule_frames(directories)
+    assert sorted(pieced_frames) == sorted(frames) and pieced_omegas == omegas
+    for step, grains in frames.items():
+        for column in ("x", "y", "z", "vx", "vy", "vz"):
+            np.testing.assert_allclose(pieced_frames[step][column], grains[column], rtol=0, atol=1e-12,
+                                       err_msg=f"step {step}, {column}")
+
+
 # ---------------------------------------------------------------- (f) bad input
 
 BAD_INPUT = [

@@ -115,10 +115,8 @@ void FixClog::parse_arguments(int narg, char **arg)
       bottom = silokit::keyword_number(this, error, value, "bottom");
       have_bottom = true;
     } else if (keyword == "every") {
-      const double every = silokit::keyword_number(this, error, value, "every");
-      if (every < 1 || every != std::floor(every))
-        error->fix_error(FLERR, this, "'every' must be an integer >= 1");
-      nevery = static_cast<int>(every);
+      nevery = silokit::keyword_integer(this, error, value, "every");
+      if (nevery < 1) error->fix_error(FLERR, this, "'every' must be an integer >= 1");
     } else if (keyword == "quiet_time") {
       quiet_time = silokit::keyword_number(this, error, value, "quiet_time");
       if (!(quiet_time > 0.0)) error->fix_error(FLERR, this, "'quiet_time' must be > 0");
@@ -133,10 +131,8 @@ void FixClog::parse_arguments(int narg, char **arg)
       else if (strcmp(value, "break") == 0) break_arches = true;
       else error->fix_error(FLERR, this, "'action' must be 'stop' or 'break'");
     } else if (keyword == "arches") {
-      const double wanted = silokit::keyword_number(this, error, value, "arches");
-      if (wanted < 1 || wanted != std::floor(wanted))
-        error->fix_error(FLERR, this, "'arches' must be an integer >= 1");
-      arches_wanted = static_cast<int>(wanted);
+      arches_wanted = silokit::keyword_integer(this, error, value, "arches");
+      if (arches_wanted < 1) error->fix_error(FLERR, this, "'arches' must be an integer >= 1");
       have_arches = true;
     } else if (keyword == "directory") {
       directory = value;

@@ -32,6 +32,7 @@
 #include "silokit_mpi.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -55,7 +56,7 @@ const int restart_scalars = 10;
 
 FixInsertRain2d::FixInsertRain2d(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  seed(0), grain_type(0), mean_diameter(0.0), polydispersity(0.05), density(0.0),
+  grain_type(0), mean_diameter(0.0), polydispersity(0.05), density(0.0),
   line_lo(0.0), line_hi(0.0), line_height(0.0), fill(0.5), fall(-1.0),
   window(10), tolerance(0.01), max_grains(0), max_rows(0),
   random(NULL), next_tag(0), rows(0), inserted(0), stop_reason(still_raining),
@@ -93,7 +94,7 @@ FixInsertRain2d::~FixInsertRain2d()
 
 void FixInsertRain2d::parse_arguments(int narg, char **arg)
 {
-  bool have_line = false, have_fall = false;
+  bool have_type = false, have_line = false, have_fall = false;
   int iarg = 3;
   while (iarg < narg) {
     const std::string keyword(arg[iarg]);
@@ -105,13 +106,14 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     }
     const char *value = arg[iarg+1];
     if (keyword == "seed") {
-      seed = silokit::keyword_integer(this, error, value, "seed");
+      const int seed = silokit::keyword_integer(this, error, value, "seed");
       if (seed <= 10000 || !MathExtraLiggghts::isPrime(seed))
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 (LIGGGHTS' random generator requires it)");
       delete random;
       random = new RanPark(lmp, value);
     } else if (keyword == "type") {
       grain_type = silokit::keyword_integer(this, error, value, "type");
+      have_type = true;
     } else if (keyword == "diameter") {
       mean_diameter = silokit::keyword_number(this, error, value, "diameter");
       if (!(mean_diameter > 0.0)) error->fix_error(FLERR, this, "'diameter' must be > 0");
@@ -156,7 +158,7 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     iarg += values + 1;
   }
   if (!random) error->fix_error(FLERR, this, "'seed <prime > 10000>' is required");
-  if (grain_type == 0) error->fix_error(FLERR, this, "'type <atom type>' is required");
+  if (!have_type) error->fix_error(FLERR, this, "'type <atom type>' is required");
   if (grain_type < 1 || grain_type > atom->ntypes) {
     std::ostringstream message;
     message << "'type' must be an atom type from 1 to " << atom->ntypes;
@@ -205,19 +207,23 @@ void FixInsertRain2d::init()
 }
 
 /* ----------------------------------------------------------------------
-   the first row falls on the first step of the first run; a release that
-   was pending when the previous run ended (or was written to a restart
-   file) happens on its step
+   the first row falls on the first step of the first run. Between runs a
+   release that is pending (or was written to a restart file) is always due
+   on the next step, since end_of_step schedules it for the step after its
+   own, and the last release lies in the past. reset_timestep, before or
+   after read_restart, moves the step counter either way: both steps are
+   therefore set again from the step this run starts at. (Left as they
+   were, a backward reset would put the release far in the future and keep
+   the row from counting as having moved, which the blocked-line test
+   needs: the rain would stall.)
 ------------------------------------------------------------------------- */
 
 void FixInsertRain2d::setup(int)
 {
   if (stop_reason != still_raining) return;
-  if (rows == 0 && release_step < 0) release_step = update->ntimestep + 1;
-  // a release due before this run's first step (e.g. after reset_timestep)
-  // happens on that step
-  if (release_step >= 0 && release_step <= update->ntimestep) release_step = update->ntimestep + 1;
-  if (release_step > update->ntimestep) next_reneighbor = release_step;
+  if (release_step >= 0 || rows == 0) release_step = update->ntimestep + 1;
+  last_release_step = std::min(last_release_step, update->ntimestep);
+  if (release_step >= 0) next_reneighbor = release_step;
 }
 
 /* ----------------------------------------------------------------------

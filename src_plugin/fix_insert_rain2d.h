@@ -53,7 +53,6 @@ class FixInsertRain2d : public Fix {
   struct Disc { int tag; double x, diameter; };
 
   // settings
-  int seed;
   int grain_type;
   double mean_diameter;
   double polydispersity;       // diameters uniform in mean*(1 -+ polydispersity)

@@ -107,10 +107,10 @@ void FixReinject::parse_arguments(int narg, char **arg)
       random = new RanPark(lmp, value);
       have_seed = true;
     } else if (keyword == "every") {
-      nevery = static_cast<int>(silokit::keyword_number(this, error, value, "every"));
+      nevery = silokit::keyword_integer(this, error, value, "every");
       if (nevery < 1) error->fix_error(FLERR, this, "'every' must be >= 1");
     } else if (keyword == "maxattempt") {
-      max_attempts = static_cast<int>(silokit::keyword_number(this, error, value, "maxattempt"));
+      max_attempts = silokit::keyword_integer(this, error, value, "maxattempt");
       if (max_attempts < 1) error->fix_error(FLERR, this, "'maxattempt' must be >= 1");
     } else if (keyword == "rate_window") {
       rate_window = silokit::keyword_number(this, error, value, "rate_window");

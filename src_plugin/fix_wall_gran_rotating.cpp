@@ -60,7 +60,8 @@ const double UNIT_TOLERANCE = 1e-6;
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   FixWallGran(lmp, move_own_keywords_last(lmp, narg, arg), arg),
-  hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0), reduced_step(-1)
+  hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0),
+  time_before_restart(0.0), clock_restart_pending(false), reduced_step(-1)
 {
   if (meshwall_ != 0 || !primitiveWall_)
     error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
@@ -80,6 +81,7 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   extlist[2] = 1;   // torque on the plate about the axis
   extlist[3] = 1;   // grains in contact
   for (int k = 0; k < 3; ++k) local_sums[k] = global_sums[k] = 0.0;
+  restart_global = 1;
 }
 
 FixWallGranRotating::~FixWallGranRotating()
@@ -163,7 +165,8 @@ void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
       hole_radius = 0.5*diameter;
     } else if (keyword == "center") {
       // a point of the axis: only its position in the plane matters (its
-      // coordinate along the normal is checked, then the plane's is kept)
+      // coordinate along the normal must parse but is ignored: the plane's
+      // coordinate is kept)
       for (int k = 0; k < 3; ++k) {
         const double coordinate = silokit::keyword_number(this, error, arg[i+1+k], "center");
         if (k != normal) centre[k] = coordinate;
@@ -225,18 +228,53 @@ void FixWallGranRotating::check_geometry()
   }
 }
 
+/* ----------------------------------------------------------------------
+   The schedule's clock. LIGGGHTS' time restarts at 0 with the first run
+   after read_restart (Integrate::init); before that run it reads
+   step x dt, which is not the time the restored runs reached, so the
+   schedule then stands at the restored time.
+------------------------------------------------------------------------- */
+
+double FixWallGranRotating::schedule_time() const
+{
+  if (clock_restart_pending) return time_before_restart;
+  return time_before_restart + update->get_cur_time();
+}
+
+void FixWallGranRotating::setup(int vflag)
+{
+  clock_restart_pending = false;   // this run's Integrate::init has set LIGGGHTS' time to 0
+  FixWallGran::setup(vflag);
+}
+
+void FixWallGranRotating::write_restart(FILE *fp)
+{
+  const double reached = schedule_time();
+  if (comm->me == 0) {
+    const int size = sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(&reached, sizeof(double), 1, fp);
+  }
+}
+
+void FixWallGranRotating::restart(char *buf)
+{
+  time_before_restart = *reinterpret_cast<double *>(buf);
+  clock_restart_pending = true;
+}
+
 /* ---------------------------------------------------------------------- */
 
 double FixWallGranRotating::angular_velocity() const
 {
-  return update->get_cur_time() >= start_time ? omega : 0.0;
+  return schedule_time() >= start_time ? omega : 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 double FixWallGranRotating::hole_radius_now() const
 {
-  return update->get_cur_time() >= open_time ? hole_radius : 0.0;
+  return schedule_time() >= open_time ? hole_radius : 0.0;
 }
 
 /* ----------------------------------------------------------------------

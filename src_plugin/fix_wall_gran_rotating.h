@@ -27,8 +27,14 @@ class FixWallGranRotating : public FixWallGran {
  public:
   FixWallGranRotating(class LAMMPS *, int, char **);
   ~FixWallGranRotating();
+  void setup(int vflag);
   double compute_vector(int);
+  void write_restart(FILE *);
+  void restart(char *);
 
+  // the simulated time `start` and `open` refer to: LIGGGHTS' time plus
+  // the time reached before the restart file this run was read from
+  double schedule_time() const;
   // angular velocity (rad/s) at the current time: 0 before `start`
   double angular_velocity() const;
   // radius of the hole at the current time: 0 (closed) before `open`
@@ -42,8 +48,14 @@ class FixWallGranRotating : public FixWallGran {
   double axis[3];           // unit vector: plate normal, rotation sense
   double hole_radius;       // D/2
   double omega;             // angular velocity once rotating (rad/s), >= 0
-  double start_time;        // simulated time at which the rotation starts
-  double open_time;         // simulated time at which the hole opens
+  double start_time;        // schedule time at which the rotation starts
+  double open_time;         // schedule time at which the hole opens
+
+  // LIGGGHTS 3.8 does not keep the time in restart files and restarts its
+  // clock at 0 with the first run after read_restart
+  // (doc/liggghts_quirks.md); the schedule keeps its own in our restart data
+  double time_before_restart;  // schedule time written to the restart file read, 0 without
+  bool clock_restart_pending;  // restored, no run since: LIGGGHTS' time still reads step x dt
 
   // sums over this rank's contacts in the last force evaluation, and their
   // reduction over all ranks, done once per step on demand

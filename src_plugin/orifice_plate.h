@@ -42,7 +42,6 @@ struct PlateContact {
   double distance;      // from the sphere's centre to the nearest plate point
   double to_plate[3];   // that point minus the centre (length `distance`)
   double point[3];      // the nearest plate point
-  bool on_rim;          // the point is on the rim of the hole
 };
 
 // The unit vector of `axis` that the in-plane direction falls back to when
@@ -74,8 +73,7 @@ inline PlateContact nearest_plate_point(const double *x, const double *centre,
                              in_plane[2]*in_plane[2]);
 
   PlateContact contact;
-  contact.on_rim = s < hole_radius;
-  if (!contact.on_rim) {
+  if (s >= hole_radius) {   // over the plate: the foot of the perpendicular
     for (int j = 0; j < 3; ++j) {
       contact.to_plate[j] = -height*axis[j];
       contact.point[j] = x[j] + contact.to_plate[j];
@@ -83,6 +81,7 @@ inline PlateContact nearest_plate_point(const double *x, const double *centre,
     contact.distance = std::fabs(height);
     return contact;
   }
+  // over the hole: the rim point in the direction of the centre
   double direction[3];
   if (s > 0.0) {
     for (int j = 0; j < 3; ++j) direction[j] = in_plane[j]/s;

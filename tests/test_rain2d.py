@@ -326,6 +326,68 @@ run 1500
         np.testing.assert_allclose(a[name], b[name], rtol=0, atol=1e-12)
 
 
+def tables_by_run(output):
+    """thermo_rows (7 columns) of each piece of a deck's output between two
+    reset_timestep commands: the step numbers of the runs may repeat."""
+    return [thermo_rows(piece, 7) for piece in output.split("\nreset_timestep")]
+
+
+def reset_between_runs(run, steps, first, new_step, start=0, **deck_options):
+    """`steps` steps from step `start` as one run, and as `first` steps, then
+    reset_timestep new_step, then the rest. Returns the thermo rows of
+    both, those of the split run keyed by the step the single run has at
+    the same point."""
+    begin = f"reset_timestep {start}" if start else ""
+    straight = thermo_rows(run(rain_deck(steps, extra=begin, **deck_options), subdir="straight"), 7)
+    deck = rain_deck(first, extra=begin, tail=f"reset_timestep {new_step}\nrun {steps - first}",
+                     **deck_options)
+    *_, before, after = tables_by_run(run(deck, subdir="split"))
+    joined = dict(before)
+    joined.update({step - new_step + start + first: values for step, values in after.items()})
+    assert min(after) == new_step and sorted(joined) == sorted(straight)
+    return straight, joined
+
+
+@pytest.mark.parametrize("new_step", [0, 1000000])
+@pytest.mark.parametrize("when", ["release pending", "row falling"])
+def test_reset_timestep_between_runs_keeps_the_rain_going(run, new_step, when):
+    """2000 steps in one go, and split in two runs with reset_timestep in
+    between, back to 0 or forward to 10^6: grains inserted, rows, stop
+    reason, grains present and growth are the same step for step (counted
+    from the start). The split is at the step before a release (the release
+    is pending when the first run ends) or half-way between two releases.
+    (A release pending across a backward reset used to wait for its old
+    step number: the rain stalled.)"""
+    steps = 2000
+    straight = thermo_rows(run(rain_deck(steps, dump_every=100000), subdir="probe"), 7)
+    releases = [s for s in sorted(straight)[1:] if straight[s][1] > straight[s - 1][1]]
+    k = next(k for k, s in enumerate(releases) if s > steps // 3)
+    first = releases[k] - 1 if when == "release pending" else (releases[k] + releases[k + 1]) // 2
+    assert len(releases) >= k + 3                  # rows are released after the split
+    straight, joined = reset_between_runs(run, steps, first, new_step, dump_every=100000)
+    for step in sorted(straight):
+        assert joined[step][1:] == straight[step][1:], step
+
+
+@pytest.mark.parametrize("new_step", [0, 1000000])
+def test_reset_timestep_keeps_the_blocked_line_check(run, new_step):
+    """A fixed grain 1.5 below the line: the first row is released clear of
+    it, one of its grains lands on it before having fallen `fall`, and the
+    release stops (the pile has reached the line). The run starts at step
+    50000 and is split by reset_timestep while that row falls: the release
+    stops at the same step, counted from the start, as without the reset.
+    (Across a backward reset the row used to count as not having moved
+    since its release, which turned the blocked-line check off: the rain
+    waited for ever.)"""
+    blocker = "create_atoms 2 single 0.3 8.5 0 units box\nset type 2 diameter 1.0 density 1.0"
+    options = dict(fix_options="fill 0.9", dump_every=100000, substrate=blocker, start=50000)
+    straight, joined = reset_between_runs(run, 600, 150, new_step, **options)
+    stopped = [s for s in sorted(straight) if straight[s][3] == 4]
+    assert stopped and stopped[0] > 50000 + 200 and straight[stopped[0]][2] == 1   # one row
+    for step in sorted(straight):
+        assert joined[step][1:] == straight[step][1:], step
+
+
 # ------------------------------------------------------------ bad input
 
 GOOD = f"seed {SEED} type 1 diameter {D} polydispersity {POLY} density {RHO!r} line -5.0 5.0 10.0"
@@ -347,6 +409,8 @@ def refused(run, options, **deck_options):
     (GOOD.replace(f"seed {SEED}", "seed abc"), "'seed' expects a number, got 'abc'"),
     (GOOD.replace("type 1 ", ""), "'type <atom type>' is required"),
     (GOOD.replace("type 1", "type 3"), "'type' must be an atom type from 1 to 2"),
+    (GOOD.replace("type 1", "type 0"), "'type' must be an atom type from 1 to 2"),
+    (GOOD.replace("type 1", "type -1"), "'type' must be an atom type from 1 to 2"),
     (GOOD.replace("type 1", "type 1.5"), "'type' expects an integer, got '1.5'"),
     (GOOD.replace("diameter 1.0 ", ""), "'diameter <mean diameter>' is required"),
     (GOOD.replace("diameter 1.0", "diameter -1"), "'diameter' must be > 0"),

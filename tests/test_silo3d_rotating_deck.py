@@ -122,10 +122,14 @@ def test_fastest_rotation_with_reinjection_keeps_every_grain(run, tmp_path):
 
 def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
     """write_packing saves the settled silo; read_packing starts from it and
-    opens the orifice at the first step (the clock restarts at 0 after
-    read_restart, doc/liggghts_quirks.md): grains leave within 0.3 s."""
+    opens the orifice at the first step: t_open = 0 in LIGGGHTS' time, which
+    restarts at 0 after read_restart (doc/liggghts_quirks.md), and `open 0`
+    for the bottom, whose schedule goes on from the settling time stored
+    in the packing. Grains leave within 0.3 s."""
     run(quick_deck(write_packing=1, discharge_time=0.05), subdir="settle")
-    run(quick_deck(read_packing=1, packing="../settle/packing.restart", discharge_time=0.3), subdir="read")
+    output = run(quick_deck(read_packing=1, packing="../settle/packing.restart", discharge_time=0.3),
+                 subdir="read")
+    assert "Resetting global state of Fix bottom Style wall/gran/rotating" in output
     params = run_parameters(tmp_path / "read" / "run.txt")
     record = read_table(tmp_path / "read" / "discharge.txt")
     assert params["t_open"] == 0.0

@@ -3,8 +3,8 @@ the silo axis.
 
 (a) Peer: without hole and rotation the plate is the stock primitive plane:
     trajectories of grains bouncing, sliding and rolling on it are
-    identical to those on `fix wall/gran ... primitive zplane`, for Hooke,
-    Hooke with rolling_friction jiang, and Hertz.
+    identical, bit for bit, to those on `fix wall/gran ... primitive
+    zplane`, for Hooke, Hooke with rolling_friction jiang, and Hertz.
 (b) Rotation, analytic: a grain that cannot roll (`fix nve`: its spin is
     never integrated) is dragged into co-rotation, tangential speed Omega r;
     a sphere that rolls without slipping obeys the turntable theorem
@@ -19,7 +19,8 @@ the silo axis.
     falls through; a sphere rolling over the rim and fast impacts on the
     rim edge and on the plate never tunnel, never gain energy, and the force
     on the plate changes continuously. The 2D slot does the same.
-(e) Two MPI ranks reproduce one; a restart continues a loaded contact exactly.
+(e) Two MPI ranks reproduce one bit for bit; a restart continues a loaded
+    contact exactly.
 (f) Bad input: a clear ERROR naming the keyword.
 """
 
@@ -149,9 +150,9 @@ def test_plate_without_hole_or_rotation_is_the_stock_plane(run, tmp_path, name):
     assert np.all(np.hypot(ours[-1][1]["x"] - ours[0][1]["x"], ours[-1][1]["y"] - ours[0][1]["y"]) > 1e-3)
     assert len(ours) == len(stock) == 201
     for (_, a), (_, b) in zip(ours, stock):
+        # bit for bit: both loops do the same arithmetic (dumped with 17 digits)
         for column in ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"):
-            np.testing.assert_allclose(a[column], b[column], rtol=0, atol=1e-13,
-                                       err_msg=f"{name}: {column}")
+            np.testing.assert_array_equal(a[column], b[column], err_msg=f"{name}: {column}")
 
 
 # ---------------------------------------------------------------- (b) rotation
@@ -444,7 +445,7 @@ def test_two_ranks_reproduce_one(run, tmp_path):
         for column in ("x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"):
             deviation = np.max(np.abs(a[column] - b[column]))
             print(f"step {step1} {column}: {deviation:.2e}")
-            assert deviation < 1e-10, column
+            assert deviation == 0.0, column            # bit for bit
 
 
 def test_restart_continues_a_loaded_wall_contact_exactly(run, tmp_path):
@@ -470,6 +471,93 @@ def test_restart_continues_a_loaded_wall_contact_exactly(run, tmp_path):
     # the spring mattered: the grain is held against a centripetal force
     speed, _ = tangential_speed(whole)
     assert speed[-1] == pytest.approx(OMEGA * R0, rel=1e-2)   # undamped: oscillates a little about it
+
+
+# Times of the schedule across restarts: LIGGGHTS 3.8 restarts its clock
+# at 0 after read_restart; the fix keeps the time reached in its restart data.
+SWITCH = 0.100005              # start and open: half-way between two steps
+SCHEDULE_STEPS = 20000
+RESTING = RADIUS - MASS_3D * G / KN
+SCHEDULE_DUMP = ("dump grains all custom 100 dump.grains id x y z vx vy vz\n"
+                 "dump_modify grains sort id format \"%d %.17g %.17g %.17g %.17g %.17g %.17g\"\n"
+                 "variable step equal step\n"
+                 "fix schedule all print 100 \"${step} ${om}\" file schedule.txt screen no\n"
+                 "thermo_modify lost ignore")
+
+
+def schedule_piece(steps, restart_file=None):
+    """Grain 1 rests over the hole of the closed plate (it falls once the
+    hole opens), grain 2 at R0 on the plate (fix nve: it is carried along
+    once the plate turns); plate open and turning from SWITCH. Without
+    damping, so that a restart continues exactly (see the test above).
+    steps None: read the restart file and write it again, without a run."""
+    wall = plate(f"orifice {HOLE} frequency {FREQUENCY} start {SWITCH} open {SWITCH}")
+    grains = one_atom(0.5 * HOLE_RADIUS, 0.0, RESTING) + "\n" + one_atom(R0, 0.0, RADIUS)
+    text = deck(grains, wall, steps or 0, integrate="nve", record_every=100000, extra=SCHEDULE_DUMP,
+                materials=hooke_materials(KN, 2.0 / 7.0 * KN, mu=0.5), restart_file=restart_file)
+    if steps is None:
+        text = text.replace("\nrun 0\n", "\n")
+    return text + "write_restart state.restart\n"
+
+
+def schedule_frames(directories):
+    """step -> dump frame and step -> angular velocity of the plate, over
+    the pieces of a run (a restart's first frame repeats the last one)."""
+    frames, omegas = {}, {}
+    for directory in directories:
+        if (directory / "dump.grains").exists():
+            frames.update(read_dump(directory / "dump.grains"))
+        for line in open(directory / "schedule.txt"):   # the title only when nothing ran
+            if not line.startswith("#"):
+                step, omega = line.split()
+                omegas[int(step)] = float(omega)
+    return frames, omegas
+
+
+@pytest.mark.parametrize("pieces", [
+    (6000, 14000),               # restart before start/open
+    (14000, 6000),               # restart after start/open
+    (4000, 4000, 12000),         # two restarts before: the offset accumulates
+    (6000, None, 14000),         # written again right after read_restart, without a run
+], ids=["before", "after", "twice-before", "rewritten-before-a-run"])
+def test_a_restarted_run_keeps_the_schedule(run, tmp_path, pieces):
+    """The schedule is in the simulated time of the whole run: with start =
+    open = SWITCH, grain 1 stays at rest over the closed hole until then and
+    falls through it after, grain 2 is at rest until then and carried at
+    Omega R0 after; a run cut into pieces by write_restart/read_restart (the
+    same fix ID and arguments) does step for step what the uninterrupted
+    run does. (LIGGGHTS 3.8's time restarts at 0 after read_restart: compared
+    with it, the plate would open and turn SWITCH after each restart.)"""
+    run(schedule_piece(SCHEDULE_STEPS), subdir="whole")
+    frames, omegas = schedule_frames([tmp_path / "whole"])
+    assert len(frames) == SCHEDULE_STEPS // 100 + 1 and len(omegas) == SCHEDULE_STEPS // 100
+    for step, grains in frames.items():
+        before = step * DT < SWITCH
+        # (printed with 15 digits)
+        assert omegas.get(step, 0.0) == (0.0 if before else pytest.approx(OMEGA, rel=1e-14)), step
+        speed = np.hypot(grains["vx"][1], grains["vy"][1])
+        if before:
+            assert abs(grains["z"][0] - RESTING) < 1e-8 and abs(grains["vz"][0]) < 1e-6, step
+            assert speed < 1e-12, step
+    last = frames[SCHEDULE_STEPS]
+    assert last["z"][0] < -RADIUS                                # fell through the hole
+    # carried along (undamped: the static friction spring oscillates a little)
+    assert np.hypot(last["vx"][1], last["vy"][1]) == pytest.approx(OMEGA * R0, rel=0.05)
+
+    previous = None
+    directories = []
+    for k, steps in enumerate(pieces):
+        directory = f"piece{k}"
+        restart_file = f"../{previous}/state.restart" if previous else None
+        run(schedule_piece(steps, restart_file), subdir=directory)
+        directories.append(tmp_path / directory)
+        previous = directory
+    pieced_frames, pieced_omegas = schedule_frames(directories)
+    assert sorted(pieced_frames) == sorted(frames) and pieced_omegas == omegas
+    for step, grains in frames.items():
+        for column in ("x", "y", "z", "vx", "vy", "vz"):
+            np.testing.assert_allclose(pieced_frames[step][column], grains[column], rtol=0, atol=1e-12,
+                                       err_msg=f"step {step}, {column}")
 
 
 # ---------------------------------------------------------------- (f) bad input

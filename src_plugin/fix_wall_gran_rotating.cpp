@@ -60,8 +60,7 @@ const double UNIT_TOLERANCE = 1e-6;
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   FixWallGran(lmp, move_own_keywords_last(lmp, narg, arg), arg),
-  hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0),
-  time_before_restart(0.0), clock_restart_pending(false), reduced_step(-1)
+  hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0), reduced_step(-1)
 {
   if (meshwall_ != 0 || !primitiveWall_)
     error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
@@ -229,21 +228,17 @@ void FixWallGranRotating::check_geometry()
 }
 
 /* ----------------------------------------------------------------------
-   The schedule's clock. LIGGGHTS' time restarts at 0 with the first run
-   after read_restart (Integrate::init); before that run it reads
-   step x dt, which is not the time the restored runs reached, so the
-   schedule then stands at the restored time.
+   The schedule's clock goes on across restarts (silokit_clock.h).
 ------------------------------------------------------------------------- */
 
 double FixWallGranRotating::schedule_time() const
 {
-  if (clock_restart_pending) return time_before_restart;
-  return time_before_restart + update->get_cur_time();
+  return clock.time(update->get_cur_time());
 }
 
 void FixWallGranRotating::setup(int vflag)
 {
-  clock_restart_pending = false;   // this run's Integrate::init has set LIGGGHTS' time to 0
+  clock.run_set_up();
   FixWallGran::setup(vflag);
 }
 
@@ -259,8 +254,7 @@ void FixWallGranRotating::write_restart(FILE *fp)
 
 void FixWallGranRotating::restart(char *buf)
 {
-  time_before_restart = *reinterpret_cast<double *>(buf);
-  clock_restart_pending = true;
+  clock.restored(*reinterpret_cast<double *>(buf));
 }
 
 /* ---------------------------------------------------------------------- */

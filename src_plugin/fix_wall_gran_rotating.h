@@ -20,6 +20,7 @@ FixStyle(wall/gran/rotating,FixWallGranRotating)
 #define LMP_FIX_WALL_GRAN_ROTATING_H
 
 #include "fix_wall_gran.h"
+#include "silokit_clock.h"
 
 namespace LAMMPS_NS {
 
@@ -54,8 +55,7 @@ class FixWallGranRotating : public FixWallGran {
   // LIGGGHTS 3.8 does not keep the time in restart files and restarts its
   // clock at 0 with the first run after read_restart
   // (doc/liggghts_quirks.md); the schedule keeps its own in our restart data
-  double time_before_restart;  // schedule time written to the restart file read, 0 without
-  bool clock_restart_pending;  // restored, no run since: LIGGGHTS' time still reads step x dt
+  silokit::RestartClock clock;
 
   // sums over this rank's contacts in the last force evaluation, and their
   // reduction over all ranks, done once per step on demand

@@ -48,6 +48,10 @@ using namespace FixConst;
 
 namespace {
 
+// first value of the restart data; the layout of silokit before the
+// restart clock began with the clog count (>= 0) and held LIGGGHTS' times
+const double restart_layout = -2.0;
+
 const int grain_fields = 6;     // tag, horizontal, off-plane, height, radius, kind
 const int contact_fields = 6;   // id1, id2, horizontal, height, |F_n|, |F_t|
 
@@ -292,9 +296,20 @@ void FixClog::open_records()
 
 void FixClog::setup(int)
 {
+  clock.run_set_up();
   if (attempt_start >= 0.0) return;   // already started (an earlier run, or a restart)
-  attempt_start = last_exit_time = update->get_cur_time();
+  attempt_start = last_exit_time = simulated_time();
   last_grains_out = reinject->compute_vector(0);
+}
+
+/* ----------------------------------------------------------------------
+   the time of the whole run, across restarts (silokit_clock.h): that of
+   the attempts, the records and output 5
+------------------------------------------------------------------------- */
+
+double FixClog::simulated_time() const
+{
+  return clock.time(update->get_cur_time());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -321,7 +336,7 @@ double FixClog::kinetic_to_potential_ratio() const
 void FixClog::end_of_step()
 {
   if (done) return;
-  const double now = update->get_cur_time();
+  const double now = simulated_time();
   const double grains_out = reinject->compute_vector(0);
   if (grains_out != last_grains_out) {
     last_grains_out = grains_out;
@@ -532,7 +547,7 @@ void FixClog::write_records(const Outcome &outcome, int avalanche,
   if (comm->me != 0) return;
   const int clog = attempts;
   fprintf(clogs_file, "%d " BIGINT_FORMAT " %.12g %d %d %d\n", clog, update->ntimestep,
-          update->get_cur_time(), avalanche, static_cast<int>(outcome.member_tags.size()),
+          simulated_time(), avalanche, static_cast<int>(outcome.member_tags.size()),
           outcome.status);
   fflush(clogs_file);
   if (outcome.status == 0) return;
@@ -577,7 +592,7 @@ void FixClog::report(const Outcome &outcome, int avalanche)
 {
   if (comm->me != 0) return;
   std::ostringstream line;
-  line << "fix clog " << id << ": clog " << attempts << " at t = " << update->get_cur_time()
+  line << "fix clog " << id << ": clog " << attempts << " at t = " << simulated_time()
        << " s (step " << update->ntimestep << "), avalanche " << avalanche << " grains, ";
   if (outcome.status == 1) line << "arch of " << outcome.member_tags.size() << " grains";
   else line << "no arch (" << outcome.reason << ")";
@@ -600,7 +615,7 @@ double FixClog::compute_vector(int index)
     case 2: return done ? 1.0 : 0.0;
     case 3: return last_ratio;
     case 4: return attempt_start < 0.0 ? 0.0
-                   : update->get_cur_time() - std::max(attempt_start, last_exit_time);
+                   : simulated_time() - std::max(attempt_start, last_exit_time);
   }
   return 0.0;
 }
@@ -609,23 +624,30 @@ double FixClog::compute_vector(int index)
 
 void FixClog::write_restart(FILE *fp)
 {
-  const double list[6] = { static_cast<double>(attempts), static_cast<double>(arches_found),
-                           done ? 1.0 : 0.0, attempt_start, last_exit_time, last_grains_out };
+  const int count = 8;
+  const double list[count] = { restart_layout, static_cast<double>(attempts),
+                               static_cast<double>(arches_found), done ? 1.0 : 0.0, attempt_start,
+                               last_exit_time, last_grains_out, simulated_time() };
   if (comm->me == 0) {
-    const int size = 6*sizeof(double);
+    const int size = count*sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 6, fp);
+    fwrite(list, sizeof(double), count, fp);
   }
 }
 
 void FixClog::restart(char *buf)
 {
   const double *list = reinterpret_cast<double *>(buf);
-  attempts = static_cast<int>(list[0]);
-  arches_found = static_cast<int>(list[1]);
-  done = list[2] != 0.0;
-  attempt_start = list[3];
-  last_exit_time = list[4];
-  last_grains_out = list[5];
+  if (list[0] != restart_layout)
+    error->fix_error(FLERR, this, "the restart file holds its data in the layout of an older silokit, "
+                     "whose times cannot be continued: define the fix with another ID to start "
+                     "anew (in another 'directory' to keep the records)");
+  attempts = static_cast<int>(list[1]);
+  arches_found = static_cast<int>(list[2]);
+  done = list[3] != 0.0;
+  attempt_start = list[4];
+  last_exit_time = list[5];
+  last_grains_out = list[6];
+  clock.restored(list[7]);
   restored = true;
 }

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump, read_table
+from analysis.lammps_io import read_dump, read_table, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -69,42 +69,57 @@ def lower_side_phi(previous, at, following):
     return math.degrees(b - a) % 360.0
 
 
-def clog_deck(fix_options="action stop", processors="", atoms_order=None):
+def clog_deck(fix_options="action stop", processors="", atoms_order=None, quiet_time=0.001,
+              more_atoms="", extra="", gravity_group="all", max_chunks=20, run_loop=True,
+              restart_file=None, tail=""):
     """Atom ids: base 1-8, then the walk (feet and members) 9-13, top 14.
-    atoms_order permutes the creation order (ids follow creation)."""
+    atoms_order permutes the creation order (ids follow creation).
+    more_atoms: lines after the groups are made (not with restart_file);
+    extra: lines after the materials; restart_file: the box, the atoms and
+    the groups come from it; tail: lines after the run loop (run_loop False:
+    no run)."""
     base, walk, top = arch_scene()
     points = [(x, z, "base") for x, z in base] + [(x, z, "free") for x, z in walk] + \
              [(top[0], top[1], "free")]
     creates = "\n".join(f"create_atoms 1 single {x!r} 0.0 {z!r} units box" for x, z, _ in points)
     base_ids = " ".join(str(i + 1) for i in range(len(base)))
     free_ids = f"{len(base) + 1}:{len(points)}"
-    return f"""
-{granular_setup()}
+    if restart_file:
+        system = f"atom_modify map array\nread_restart {restart_file}\nnewton off\ncommunicate single vel yes"
+    else:
+        system = f"""{granular_setup()}
 {processors}
 region box block -0.06 0.06 -0.01 0.01 -0.05 0.1 units box
 create_box 1 box
+{creates}
+set group all diameter {D} density {DENSITY}
+group base id {base_ids}
+group grains id {free_ids}
+{more_atoms}"""
+    loop = f"include {ROOT}/inputs/run_until_done.in" if run_loop else ""
+    return f"""
+{system}
 neighbor 0.001 bin
 neigh_modify delay 0
 {hooke_materials(KN, KN * 2 / 7, gamman=0.0, gammat=0.0, mu=0.5)}
 pair_style gran model hooke/stiffness tangential history
 pair_coeff * *
 timestep 1e-5
-{creates}
-set group all diameter {D} density {DENSITY}
-group base id {base_ids}
-group grains id {free_ids}
-fix gravity all gravity {G} vector 0 0 -1
+{extra}
+fix gravity {gravity_group} gravity {G} vector 0 0 -1
 region top block -0.04 0.04 -0.01 0.01 0.06 0.09 units box
 fix reinject grains reinject exit z -0.03 region top seed 15485863 every 10
-fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 every 10 quiet_time 0.001 {fix_options}
+fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 every 10 quiet_time {quiet_time} {fix_options}
 variable done equal f_clog[3]
 variable chunk_steps equal 50
-variable max_chunks equal 20
-thermo_style custom step time f_clog[1] f_clog[2] f_clog[3] f_clog[4]
+variable max_chunks equal {max_chunks}
+thermo_style custom step atoms f_clog[1] f_clog[2] f_clog[3] f_clog[4] f_clog[5]
+thermo_modify format float %.15g
 thermo 50
-include {ROOT}/inputs/run_until_done.in
+{loop}
 variable steps_run equal step
 print "steps run: ${{steps_run}}"
+{tail}
 """
 
 
@@ -144,15 +159,16 @@ def test_scene_is_what_the_docstring_says():
     assert phis == pytest.approx([95.8, 210.0, 122.9], abs=0.1)
 
 
-def check_records(workdir):
+def check_records(workdir, time=0.001, avalanche=0):
+    """time: when the clog is detected (default: at the first check with
+    quiet_time 0.001 s behind it); avalanche: grains that left before."""
     positions, members, contacts = expected_records()
     clogs = read_table(workdir / "clogs.txt")
     assert list(clogs["clog"]) == [1]
     assert list(clogs["status"]) == [1]
     assert list(clogs["eta"]) == [3]
-    assert list(clogs["avalanche"]) == [0]
-    # detected at the first check with quiet_time 0.001 s behind it
-    assert clogs["time"][0] == pytest.approx(0.001, abs=1e-12)
+    assert list(clogs["avalanche"]) == [avalanche]
+    assert clogs["time"][0] == pytest.approx(time, abs=1e-12)
 
     arches = read_table(workdir / "arches.txt")
     assert list(arches["id"]) == members
@@ -230,6 +246,100 @@ def test_break_moves_the_arch_to_the_top_and_goes_on(run, tmp_path):
                 assert np.linalg.norm(np.subtract(final[a], final[b])) >= D
     # nothing was counted as out: the arch grains did not leave through the exit
     assert list(clogs["avalanche"]) == [0] * len(clogs["avalanche"])
+
+
+# ---------------------------------------------- restart: the clock goes on
+# LIGGGHTS 3.8 restarts its time at 0 after read_restart; fix clog keeps the
+# time of the whole run in its restart data. The frozen arch plus one grain
+# that leaves: a flowing silo would not do, since a restarted flow drifts
+# from the uninterrupted one (rounding differences grow: tried on a 35-grain
+# silo, the same arch came out with forces 0.5 % apart, or 100 steps later).
+
+DT = 1e-5
+CHECK_EVERY = 10                 # fix reinject and fix clog
+FALLER = 15                      # the grain that leaves
+FALLER_START = -0.01202          # under the outlet, below the base: touches nothing
+FALLER_SPEED = 4.0               # m/s, down
+EXIT = -0.03
+QUIET = 0.00105                  # not a multiple of the checks' 1e-4 s: no rounding tie
+
+
+def faller_deck(**options):
+    """The frozen arch of clog_deck and grain 15, which flies down at a
+    constant speed under the outlet, leaves and re-enters at rest at the
+    top, where it stays: gravity acts only on the base, which is not
+    integrated (fix clog reads g from it for Ep). Before it leaves, its
+    kinetic energy keeps Ec/Ep far above the ratio; after, Ec = 0."""
+    faller = (f"create_atoms 1 single 0.0 0.0 {FALLER_START!r} units box\n"
+              f"set atom {FALLER} diameter {D} density {DENSITY}\n"
+              f"group faller id {FALLER}\n"
+              f"group grains id {FALLER}\n"
+              f"velocity faller set 0.0 0.0 {-FALLER_SPEED!r} units box")
+    return clog_deck(quiet_time=QUIET, more_atoms=faller, gravity_group="base",
+                     extra="fix integrate faller nve/sphere", **options)
+
+
+def expected_clog_step():
+    """The step of the clog, from the faller's flight: it crosses the exit
+    plane in step `crossed` (z = z0 - n v dt), fix reinject sees it at its
+    next check and re-enters it in the step after, fix clog sees the count
+    change at its next check, and the clog is the first check QUIET later."""
+    crossed = next(n for n in range(1, 10000) if FALLER_START - n * FALLER_SPEED * DT < EXIT)
+    seen = -(-crossed // CHECK_EVERY) * CHECK_EVERY
+    noticed = seen + CHECK_EVERY
+    return next(step for step in range(noticed, 10000, CHECK_EVERY)
+                if (step - noticed) * DT >= QUIET * (1 - 1e-9)), noticed
+
+
+@pytest.mark.parametrize("pieces", [
+    (6, 14),                     # restart at step 300: before the grain leaves (step 450)
+    (10, 10),                    # at 500: after fix clog saw it leave (460), before the clog (570)
+    (3, 7, 10),                  # at 150 and 500
+    (6, None, 14),               # at 300, and the file written again before any run
+], ids=["before-the-exit", "after-the-exit", "twice", "rewritten-before-a-run"])
+def test_a_restarted_run_finds_the_same_clog_at_the_same_time(run, tmp_path, pieces):
+    """A run cut by write_restart/read_restart (pieces: chunks of 50 steps
+    per piece, None: read and written again without a run) writes the same
+    records as the uninterrupted run, whose clog is at the step predicted
+    from the faller's flight, with the time of that step; output 5 (time
+    since the flow last moved) is the same at every thermo step. (With
+    LIGGGHTS' own time, which restarts at 0, the restarted clog came late,
+    or at the same step with the time since the restart.)"""
+    clog_step, noticed = expected_clog_step()
+    assert (clog_step, noticed) == (570, 460)    # what the pieces are cut around
+    whole = run(faller_deck(), subdir="whole")
+    check_records(tmp_path / "whole", time=clog_step * DT, avalanche=1)
+    clogs = read_table(tmp_path / "whole" / "clogs.txt")
+    assert clogs["step"][0] == clog_step
+    assert f"clog 1 at t = {clog_step * DT:g} s (step {clog_step})" in whole
+    assert f"steps run: {-(-clog_step // 50) * 50}" in whole
+
+    # every piece in one directory: the records are appended to after a restart
+    outputs = []
+    for k, chunks in enumerate(pieces):
+        restart_file = f"state{k - 1}.restart" if k else None
+        tail = f"write_restart state{k}.restart" if k < len(pieces) - 1 else ""
+        if chunks is None:
+            deck = faller_deck(restart_file=restart_file, run_loop=False, tail=tail)
+        else:
+            deck = faller_deck(restart_file=restart_file, max_chunks=chunks, tail=tail)
+        outputs.append(run(deck, subdir="pieces"))
+        if restart_file:
+            assert "Resetting global state of Fix clog Style clog" in outputs[-1]
+    assert f"clog 1 at t = {clog_step * DT:g} s (step {clog_step})" in outputs[-1]
+    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+        assert (tmp_path / "pieces" / name).read_text() == (tmp_path / "whole" / name).read_text(), name
+
+    since_moved = {step: values[-1] for step, values in thermo_rows(whole, 7).items()}
+    pieced = {}
+    for output in outputs:
+        pieced.update({step: values[-1] for step, values in thermo_rows(output, 7).items()})
+    assert sorted(pieced) == sorted(since_moved)
+    for step, value in since_moved.items():
+        assert pieced[step] == pytest.approx(value, rel=1e-12, abs=1e-15), step
+    # before the faller left, since the start; after, since it left
+    assert since_moved[400] == pytest.approx(400 * DT)
+    assert since_moved[550] == pytest.approx((550 - noticed) * DT)
 
 
 FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 "

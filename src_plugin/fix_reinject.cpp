@@ -37,6 +37,10 @@ using namespace FixConst;
 
 namespace {
 
+// first value of the restart data; the layout of silokit before the
+// restart clock began with the count of grains out (>= 0)
+const double restart_layout = -2.0;
+
 bool overlaps(const double *centre, double radius, const double *other_centre, double other_radius)
 {
   double distance_squared = 0.0;
@@ -175,6 +179,21 @@ void FixReinject::init()
                              : axis == 1 ? region->extent_ylo : region->extent_zlo;
   if (region_bottom <= exit_coordinate)
     error->fix_error(FLERR, this, "the region must lie above the exit plane");
+}
+
+/* ----------------------------------------------------------------------
+   the time of the whole run, across restarts (silokit_clock.h): that of
+   the file's lines and of the flow-rate samples
+------------------------------------------------------------------------- */
+
+void FixReinject::setup(int)
+{
+  clock.run_set_up();
+}
+
+double FixReinject::simulated_time() const
+{
+  return clock.time(update->get_cur_time());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -337,7 +356,7 @@ void FixReinject::pre_exchange()
 
   if (record) {
     fprintf(record, BIGINT_FORMAT " %.15g %.0f %.15g %.0f\n", update->ntimestep,
-            update->get_cur_time(), grains_out, mass_out, avalanche);
+            simulated_time(), grains_out, mass_out, avalanche);
     fflush(record);
   }
 }
@@ -346,7 +365,7 @@ void FixReinject::pre_exchange()
 
 void FixReinject::record_sample()
 {
-  const Sample now = { update->get_cur_time(), grains_out, mass_out };
+  const Sample now = { simulated_time(), grains_out, mass_out };
   samples.push_back(now);
   // keep the newest sample that is at least a window old, and all newer
   // (with a tolerance for the rounding of accumulated times)
@@ -400,19 +419,25 @@ double FixReinject::compute_vector(int index)
 
 void FixReinject::write_restart(FILE *fp)
 {
-  double list[4] = { grains_out, mass_out, avalanche, static_cast<double>(random->state()) };
+  const int count = 6;
+  const double list[count] = { restart_layout, grains_out, mass_out, avalanche,
+                               static_cast<double>(random->state()), simulated_time() };
   if (comm->me == 0) {
-    int size = 4*sizeof(double);
+    const int size = count*sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 4, fp);
+    fwrite(list, sizeof(double), count, fp);
   }
 }
 
 void FixReinject::restart(char *buf)
 {
   const double *list = reinterpret_cast<double *>(buf);
-  grains_out = list[0];
-  mass_out = list[1];
-  avalanche = list[2];
-  random->reset(static_cast<int>(list[3]));
+  if (list[0] != restart_layout)
+    error->fix_error(FLERR, this, "the restart file holds its data in the layout of an older silokit, "
+                     "whose times cannot be continued: define the fix with another ID to start anew");
+  grains_out = list[1];
+  mass_out = list[2];
+  avalanche = list[3];
+  random->reset(static_cast<int>(list[4]));
+  clock.restored(list[5]);
 }

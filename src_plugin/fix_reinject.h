@@ -17,6 +17,7 @@ FixStyle(reinject,FixReinject)
 #define LMP_FIX_REINJECT_H
 
 #include "fix.h"
+#include "silokit_clock.h"
 #include <cstdio>
 #include <deque>
 #include <map>
@@ -31,6 +32,7 @@ class FixReinject : public Fix {
   ~FixReinject();
   int setmask();
   void init();
+  void setup(int);
   void end_of_step();
   void pre_exchange();
   double compute_vector(int);
@@ -63,11 +65,15 @@ class FixReinject : public Fix {
   double grains_out;
   double mass_out;
   double avalanche;
+  // LIGGGHTS 3.8 restarts its time at 0 after read_restart
+  // (doc/liggghts_quirks.md): the fix keeps the time of the whole run
+  silokit::RestartClock clock;
 
   // (time, grains_out, mass_out) at recent checks, for the flow rate
   struct Sample { double time, grains, mass; };
   std::deque<Sample> samples;
 
+  double simulated_time() const;
   bool is_leaver(int i) const;
   bool is_requested(int i) const;
   int count_local_leavers() const;

@@ -194,7 +194,13 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
     assert min(xs) < 0 < max(xs)
 
 
-def test_counts_survive_a_restart(run, tmp_path):
+def test_counts_and_times_survive_a_restart(run, tmp_path, rain):
+    """The counts and the random sequence are restored, and the file's time
+    column goes on from the time reached: a run restarted at step 2100 (the
+    first wave through) writes for the second wave (126 lines up to step
+    4500) the lines of the uninterrupted rain, with t = step x dt.
+    (LIGGGHTS 3.8's own time restarts at 0 after read_restart: with it, t
+    was the time since the restart.)"""
     output = run(rain_deck(steps=2100, dump_every=100000, tail="write_restart rain.restart"),
                  subdir="first")
     before = thermo_rows(output, 7)[2100]
@@ -208,15 +214,33 @@ communicate single vel yes
 pair_style gran model hooke/stiffness tangential history
 pair_coeff * *
 timestep {DT}
+fix sides all wall/gran model hooke/stiffness tangential history primitive type 1 xplane -0.05
+fix sides2 all wall/gran model hooke/stiffness tangential history primitive type 1 xplane 0.05
+fix sides3 all wall/gran model hooke/stiffness tangential history primitive type 1 yplane -0.05
+fix sides4 all wall/gran model hooke/stiffness tangential history primitive type 1 yplane 0.05
 region top block {' '.join(str(v) for v in REGION)} units box
-fix out all reinject exit z {EXIT} region top seed 15485863
+fix gravi all gravity {G} vector 0 0 -1
+fix integr all nve/sphere
+fix out all reinject exit z {EXIT} region top seed 15485863 file exits.txt rate_window {RATE_WINDOW}
 thermo_style custom step atoms f_out[1] f_out[2] f_out[3] f_out[4] f_out[5]
 thermo_modify format float %.15g
-run 0
+thermo 100
+run 2400
 """
     after = thermo_rows(run(resumed, subdir="second"), 7)[2100]
     assert before[1] == N_GRAINS        # the first wave is through
     assert after[:4] == before[:4]
+
+    whole_dir, _, _ = rain
+    whole = read_table(whole_dir / "exits.txt")
+    resumed_rows = read_table(tmp_path / "second" / "exits.txt")
+    later = (whole["step"] > 2100) & (whole["step"] <= 4500)
+    assert later.sum() >= 10
+    for column in ("step", "n_out", "avalanche"):
+        np.testing.assert_array_equal(resumed_rows[column], whole[column][later], err_msg=column)
+    np.testing.assert_allclose(resumed_rows["mass_out"], whole["mass_out"][later], rtol=1e-14)
+    np.testing.assert_allclose(resumed_rows["t"], resumed_rows["step"] * DT, rtol=1e-12)
+    np.testing.assert_allclose(resumed_rows["t"], whole["t"][later], rtol=1e-12)
 
 
 # ------------------------------------------------------------ bad input

@@ -105,10 +105,11 @@ void FixReinject::parse_arguments(int narg, char **arg)
       region_id = new char[strlen(value) + 1];
       strcpy(region_id, value);
     } else if (keyword == "seed") {
-      if (silokit::keyword_number(this, error, value, "seed") <= 0)
-        error->fix_error(FLERR, this, "'seed' must be a positive integer");
+      const int seed = silokit::keyword_integer(this, error, value, "seed");
+      if (seed <= 0) error->fix_error(FLERR, this, "'seed' must be a positive integer");
       delete random;
-      random = new RanPark(lmp, value);
+      // RanPark reads its text with atoi: give it the integer's digits
+      random = new RanPark(lmp, std::to_string(seed).c_str());
       have_seed = true;
     } else if (keyword == "every") {
       nevery = silokit::keyword_integer(this, error, value, "every");

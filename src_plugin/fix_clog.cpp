@@ -32,6 +32,7 @@
 #include "pair.h"
 #include "silokit_args.h"
 #include "silokit_mpi.h"
+#include "silokit_record.h"
 #include "update.h"
 
 #include <algorithm>
@@ -262,15 +263,7 @@ void FixClog::init()
 
 FILE *FixClog::open_record(const char *name, const char *header)
 {
-  const std::string path = directory + "/" + name;
-  FILE *file = fopen(path.c_str(), restored ? "a" : "w");
-  if (!file) return NULL;
-  fseek(file, 0, SEEK_END);
-  if (ftell(file) == 0) {
-    fprintf(file, "%s\n", header);
-    fflush(file);
-  }
-  return file;
+  return silokit::open_record(directory + "/" + name, restored, header);
 }
 
 // After a restart the records are appended to, so that one series of

@@ -23,6 +23,7 @@
 #include "region.h"
 #include "silokit_args.h"
 #include "silokit_mpi.h"
+#include "silokit_record.h"
 #include "update.h"
 
 #include <algorithm>
@@ -59,7 +60,7 @@ bool overlaps(const double *centre, double radius, const double *other_centre, d
 FixReinject::FixReinject(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   axis(-1), exit_coordinate(0.0), region_id(NULL), region(NULL), random(NULL),
-  max_attempts(1000), rate_window(0.1), record(NULL),
+  max_attempts(1000), rate_window(0.1), record(NULL), restored(false),
   grains_out(0.0), mass_out(0.0), avalanche(0.0)
 {
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -81,7 +82,6 @@ FixReinject::FixReinject(LAMMPS *lmp, int narg, char **arg) :
 
 void FixReinject::parse_arguments(int narg, char **arg)
 {
-  const char *file_name = NULL;
   bool have_exit = false, have_seed = false;
   int iarg = 3;
   while (iarg < narg) {
@@ -122,6 +122,7 @@ void FixReinject::parse_arguments(int narg, char **arg)
       if (!(rate_window > 0.0)) error->fix_error(FLERR, this, "'rate_window' must be > 0");
     } else if (keyword == "file") {
       file_name = value;
+      if (file_name.empty()) error->fix_error(FLERR, this, "'file' needs a file name");
     } else {
       std::string message = "unknown keyword '" + keyword +
         "' (known: exit, region, seed, every, maxattempt, rate_window, file)";
@@ -134,17 +135,30 @@ void FixReinject::parse_arguments(int narg, char **arg)
   if (!have_seed) error->fix_error(FLERR, this, "'seed <positive integer>' is required");
   if (domain->dimension == 2 && axis == 2)
     error->fix_error(FLERR, this, "in 2D the vertical axis is x or y, not z");
+}
 
-  if (file_name && comm->me == 0) {
-    record = fopen(file_name, "w");
-    if (!record) {
-      std::string message = std::string("cannot open file '") + file_name + "'";
-      error->one(FLERR, message.c_str());
-    }
-    fprintf(record, "# fix reinject %s: grains re-entered after leaving below %c = %g\n",
-            id, "xyz"[axis], exit_coordinate);
-    fprintf(record, "# step t n_out mass_out avalanche\n");
-    fflush(record);
+/* ----------------------------------------------------------------------
+   opened at the first init, not in the constructor: LIGGGHTS calls
+   restart() after it, and a restored fix appends to the record, so that
+   the pieces of a restarted run write one file (silokit_record.h)
+------------------------------------------------------------------------- */
+
+void FixReinject::open_record_file()
+{
+  if (file_name.empty() || record) return;
+  int opened = 1;
+  if (comm->me == 0) {
+    char plane[64];
+    snprintf(plane, sizeof(plane), "%c = %g", "xyz"[axis], exit_coordinate);
+    const std::string header = std::string("# fix reinject ") + id +
+      ": grains re-entered after leaving below " + plane + "\n# step t n_out mass_out avalanche";
+    record = silokit::open_record(file_name, restored, header.c_str());
+    opened = record != NULL;
+  }
+  MPI_Bcast(&opened, 1, MPI_INT, 0, world);
+  if (!opened) {
+    const std::string message = "cannot open file '" + file_name + "'";
+    error->fix_error(FLERR, this, message.c_str());
   }
 }
 
@@ -180,6 +194,8 @@ void FixReinject::init()
                              : axis == 1 ? region->extent_ylo : region->extent_zlo;
   if (region_bottom <= exit_coordinate)
     error->fix_error(FLERR, this, "the region must lie above the exit plane");
+
+  open_record_file();
 }
 
 /* ----------------------------------------------------------------------
@@ -441,4 +457,5 @@ void FixReinject::restart(char *buf)
   avalanche = list[3];
   random->reset(static_cast<int>(list[4]));
   clock.restored(list[5]);
+  restored = true;
 }

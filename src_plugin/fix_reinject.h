@@ -22,6 +22,7 @@ FixStyle(reinject,FixReinject)
 #include <deque>
 #include <map>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -58,7 +59,9 @@ class FixReinject : public Fix {
   class RanPark *random;
   int max_attempts;
   double rate_window;          // time over which the flow rate is averaged
+  std::string file_name;       // of the record, empty without 'file'
   FILE *record;                // one line per check with exits (rank 0)
+  bool restored;               // state read from a restart file: append to the record
   std::set<int> requested;     // tags to re-enter without being counted
 
   // counts, kept across restarts
@@ -81,6 +84,7 @@ class FixReinject : public Fix {
   std::vector<Sphere> gather_spheres_near_region(double margin) const;
   bool find_free_spot(double radius, const std::vector<Sphere> &occupied, double *spot);
   void move_local_grains(const std::map<int, Sphere> &spots);
+  void open_record_file();
   void record_sample();
   double rate(bool of_mass) const;
   void parse_arguments(int narg, char **arg);

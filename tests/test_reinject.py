@@ -197,17 +197,17 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
 def test_counts_and_times_survive_a_restart(run, tmp_path, rain):
     """The counts and the random sequence are restored, and the file's time
     column goes on from the time reached: a run restarted at step 2100 (the
-    first wave through) writes for the second wave (126 lines up to step
-    4500) the lines of the uninterrupted rain, with t = step x dt.
-    (LIGGGHTS 3.8's own time restarts at 0 after read_restart: with it, t
-    was the time since the restart.)"""
-    output = run(rain_deck(steps=2100, dump_every=100000, tail="write_restart rain.restart"),
-                 subdir="first")
+    first wave through) in the same directory appends to the same file, which
+    then holds the lines of the uninterrupted rain up to step 4500, under
+    one header, with t = step x dt. (LIGGGHTS 3.8's own time restarts at 0
+    after read_restart: with it, t was the time since the restart; and the
+    file used to be opened anew, losing the first part's lines.)"""
+    output = run(rain_deck(steps=2100, dump_every=100000, tail="write_restart rain.restart"))
     before = thermo_rows(output, 7)[2100]
     resumed = f"""
 units si
 atom_modify map array
-read_restart ../first/rain.restart
+read_restart rain.restart
 newton off
 communicate single vel yes
 {hooke_materials(1e4, 2.857e3, gamman=100, gammat=50, mu=0.5)}
@@ -227,20 +227,29 @@ thermo_modify format float %.15g
 thermo 100
 run 2400
 """
-    after = thermo_rows(run(resumed, subdir="second"), 7)[2100]
+    lines_before = (tmp_path / "exits.txt").read_text().splitlines()
+    after = thermo_rows(run(resumed), 7)[2100]
     assert before[1] == N_GRAINS        # the first wave is through
     assert after[:4] == before[:4]
 
     whole_dir, _, _ = rain
+    whole_lines = (whole_dir / "exits.txt").read_text().splitlines()
+    pieced_lines = (tmp_path / "exits.txt").read_text().splitlines()
+    # the first part's lines are kept, the header is not repeated
+    assert pieced_lines[:len(lines_before)] == lines_before
+    header = [line for line in whole_lines if line.startswith("#")]
+    assert len(header) == 2
+    assert [line for line in pieced_lines if line.startswith("#")] == header
+
     whole = read_table(whole_dir / "exits.txt")
-    resumed_rows = read_table(tmp_path / "second" / "exits.txt")
-    later = (whole["step"] > 2100) & (whole["step"] <= 4500)
-    assert later.sum() >= 10
+    pieced = read_table(tmp_path / "exits.txt")
+    until_end = whole["step"] <= 4500
+    assert (pieced["step"] <= 2100).sum() >= 10 and (pieced["step"] > 2100).sum() >= 10
     for column in ("step", "n_out", "avalanche"):
-        np.testing.assert_array_equal(resumed_rows[column], whole[column][later], err_msg=column)
-    np.testing.assert_allclose(resumed_rows["mass_out"], whole["mass_out"][later], rtol=1e-14)
-    np.testing.assert_allclose(resumed_rows["t"], resumed_rows["step"] * DT, rtol=1e-12)
-    np.testing.assert_allclose(resumed_rows["t"], whole["t"][later], rtol=1e-12)
+        np.testing.assert_array_equal(pieced[column], whole[column][until_end], err_msg=column)
+    np.testing.assert_allclose(pieced["mass_out"], whole["mass_out"][until_end], rtol=1e-14)
+    np.testing.assert_allclose(pieced["t"], pieced["step"] * DT, rtol=1e-12)
+    np.testing.assert_allclose(pieced["t"], whole["t"][until_end], rtol=1e-12)
 
 
 # ------------------------------------------------------------ bad input

@@ -11,7 +11,7 @@
 # Resumable: a run whose directory holds `finished` is not run again.
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
-#   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 1.28"]
+#   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 0.96 1.28"]
 #   SEEDS    primes > 10000, one packing each ["32452843"]
 #   DT_FRACTION  dt = t_c/DT_FRACTION        [40]
 #   DISCHARGE    simulated seconds after the opening [2.0]
@@ -23,7 +23,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
 DS="${DS:-0.042 0.06}"
-FS="${FS:-0 0.16 0.32 0.64 1.28}"
+FS="${FS:-0 0.16 0.32 0.64 0.96 1.28}"
 SEEDS="${SEEDS:-32452843}"
 DT_FRACTION="${DT_FRACTION:-40}"
 DISCHARGE="${DISCHARGE:-2.0}"

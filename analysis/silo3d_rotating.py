@@ -302,6 +302,11 @@ class Run:
     label: str = ""
 
     @property
+    def finished(self):
+        """The deck writes `finished <t>` to run.txt as its last act."""
+        return "finished" in self.info
+
+    @property
     def key(self):
         """(f, D) rounded so that equal deck values group together."""
         return (round(self.info["f"], 9), round(self.info["D"], 9))
@@ -766,6 +771,8 @@ def parse_args(argv):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dirs", nargs="+", type=Path, help="run directories (run.txt, discharge.txt, ...)")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--include-unfinished", action="store_true",
+                        help="also analyse runs whose run.txt has no 'finished' line (left out by default)")
     flow = parser.add_argument_group("flow rate")
     flow.add_argument("--transient", type=float, default=TRANSIENT,
                       help="start transient left out after the opening (s, default %(default)s)")
@@ -832,6 +839,15 @@ def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     args.out.mkdir(parents=True, exist_ok=True)
     runs = [load_run(path) for path in args.run_dirs]
+    unfinished = [run for run in runs if not run.finished]
+    for run in unfinished:
+        progress(f"{run.path}: unfinished (run.txt has no 'finished' line: the deck stopped or is "
+                 f"still running), {'kept' if args.include_unfinished else 'left out'}")
+    if not args.include_unfinished:
+        runs = [run for run in runs if run.finished]
+    if not runs:
+        progress("no finished run to analyse (--include-unfinished analyses the others)")
+        return 1
     for run, label in zip(runs, run_labels(runs)):
         run.label = label
         flow = analyse_flow(run, args.transient, args.gap, args.end_fraction, args.blocks)

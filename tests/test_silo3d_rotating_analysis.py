@@ -252,8 +252,9 @@ FALL = 0.3          # v_z = -FALL in the synthetic dumps
 LATTICE = 0.01
 
 
-def write_run(directory, f, D, seed, rate, gaps=(), duration=12.0, fields=False):
-    """A run directory with run.txt and discharge.txt (regular exits at
+def write_run(directory, f, D, seed, rate, gaps=(), duration=12.0, fields=False, finished=True):
+    """A run directory with run.txt (with the deck's last line `finished`
+    unless not `finished`) and discharge.txt (regular exits at
     `rate` grains/s with no exit in `gaps`), and with `fields` also dump.cg
     and dump.contacts: a sc lattice filling the silo, v = Omega e_z x r -
     FALL e_z, each vertical lattice neighbour pair in contact pressing with
@@ -261,7 +262,8 @@ def write_run(directory, f, D, seed, rate, gaps=(), duration=12.0, fields=False)
     directory.mkdir(parents=True)
     (directory / "run.txt").write_text(
         f"# synthetic\nd {GRAIN} # m\nrho {RHO}\nmass {GRAIN_MASS}\ng 9.8\nDc {SILO_DIAMETER}\nD {D}\n"
-        f"f {f}\nseed {seed}\nN 100000\ndt {DT}\nt_open {T_OPEN}\nreinject 1\n")
+        f"f {f}\nseed {seed}\nN 100000\ndt {DT}\nt_open {T_OPEN}\nreinject 1\n" +
+        (f"finished {T_OPEN + duration}\n" if finished else ""))
     tau, n_out, mass_out = record(regular_exits(rate, duration, gaps), duration, GRAIN_MASS)
     steps = np.round((tau + T_OPEN) / DT)
     rows = "".join(f"{s:.0f} {t + T_OPEN:.10g} {n:.0f} {m:.10g} 0\n"
@@ -303,12 +305,16 @@ def test_cli_writes_tables_and_plots(tmp_path):
         for seed, gaps in ((1, ()), (2, [(4.0, 6.0)])):
             runs.append(tmp_path / f"D{D}_s{seed}")
             write_run(runs[-1], 0.32, D, seed, rate, gaps, fields=(D == 0.03 and seed == 1))
+    # a run that stopped early (no `finished` line) is left out with a message
+    runs.append(tmp_path / "D0.06_s1_unfinished")
+    write_run(runs[-1], 0.32, 0.06, 1, 1.0, duration=1.2, finished=False)
     out = tmp_path / "out"
     result = subprocess.run([sys.executable, "-m", "analysis.silo3d_rotating", *map(str, runs), "--out", str(out),
                              "--map-frames", "2"],
                             cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "silo3d_rotating: done" in result.stdout
+    assert f"{runs[-1]}: unfinished" in result.stdout and "left out" in result.stdout
 
     per_run = read_table(out / "flow_rate_runs.txt")
     # by hand, transient 1 s, window [1, 12]: seed 1 has rate * 11 grains in

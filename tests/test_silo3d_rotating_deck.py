@@ -136,3 +136,6 @@ def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
     assert record["t"][0] == pytest.approx(0.01, abs=1e-3)
     assert record["t"][-1] == pytest.approx(0.3, abs=0.011)
     assert record["n_out"][-1] > 20
+    # the deck's last act marks the run finished (the analysis leaves out others)
+    assert params["discharge_time"] == 0.3
+    assert params["finished"] == pytest.approx(record["t"][-1], abs=0.011)

@@ -38,9 +38,11 @@ using namespace FixConst;
 
 namespace {
 
-// first value of the restart data; the layout of silokit before the
-// restart clock began with the count of grains out (>= 0)
-const double restart_layout = -2.0;
+// first value of the restart data. -3: with the pending re-entries and
+// the flow-rate samples; -2: without them (silokit up to commit eaa418e);
+// before the restart clock the data began with the count of grains out (>= 0)
+const double restart_layout = -3.0;
+const double restart_layout_without_pending = -2.0;
 
 bool overlaps(const double *centre, double radius, const double *other_centre, double other_radius)
 {
@@ -436,20 +438,32 @@ double FixReinject::compute_vector(int index)
 
 void FixReinject::write_restart(FILE *fp)
 {
-  const int count = 6;
-  const double list[count] = { restart_layout, grains_out, mass_out, avalanche,
-                               static_cast<double>(random->state()), simulated_time() };
+  // counts, random state and clock, then what is pending so that the
+  // restarted run goes on as an uninterrupted one: the step of a re-entry
+  // requested for the next step (grains found below the exit at the last
+  // check, or tags from fix clog), those tags, and the flow-rate samples
+  std::vector<double> list = { restart_layout, grains_out, mass_out, avalanche,
+                               static_cast<double>(random->state()), simulated_time(),
+                               static_cast<double>(next_reneighbor),
+                               static_cast<double>(requested.size()),
+                               static_cast<double>(samples.size()) };
+  list.insert(list.end(), requested.begin(), requested.end());
+  for (const Sample &sample : samples) {
+    list.push_back(sample.time);
+    list.push_back(sample.grains);
+    list.push_back(sample.mass);
+  }
   if (comm->me == 0) {
-    const int size = count*sizeof(double);
+    const int size = list.size()*sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), count, fp);
+    fwrite(list.data(), sizeof(double), list.size(), fp);
   }
 }
 
 void FixReinject::restart(char *buf)
 {
   const double *list = reinterpret_cast<double *>(buf);
-  if (list[0] != restart_layout)
+  if (list[0] != restart_layout && list[0] != restart_layout_without_pending)
     error->fix_error(FLERR, this, "the restart file holds its data in the layout of an older silokit, "
                      "whose times cannot be continued: define the fix with another ID to start anew");
   grains_out = list[1];
@@ -458,4 +472,17 @@ void FixReinject::restart(char *buf)
   random->reset(static_cast<int>(list[4]));
   clock.restored(list[5]);
   restored = true;
+  if (list[0] == restart_layout_without_pending) return;
+
+  next_reneighbor = static_cast<bigint>(list[6]);
+  const size_t tag_count = static_cast<size_t>(list[7]), sample_count = static_cast<size_t>(list[8]);
+  const double *tags = list + 9;
+  requested.clear();
+  for (size_t k = 0; k < tag_count; ++k) requested.insert(static_cast<int>(tags[k]));
+  const double *sample = tags + tag_count;
+  samples.clear();
+  for (size_t k = 0; k < sample_count; ++k, sample += 3) {
+    const Sample restored_sample = { sample[0], sample[1], sample[2] };
+    samples.push_back(restored_sample);
+  }
 }

@@ -194,16 +194,25 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
     assert min(xs) < 0 < max(xs)
 
 
-def test_counts_and_times_survive_a_restart(run, tmp_path, rain):
-    """The counts and the random sequence are restored, and the file's time
-    column goes on from the time reached: a run restarted at step 2100 (the
-    first wave through) in the same directory appends to the same file, which
-    then holds the lines of the uninterrupted rain up to step 4500, under
-    one header, with t = step x dt. (LIGGGHTS 3.8's own time restarts at 0
-    after read_restart: with it, t was the time since the restart; and the
-    file used to be opened anew, losing the first part's lines.)"""
-    output = run(rain_deck(steps=2100, dump_every=100000, tail="write_restart rain.restart"))
-    before = thermo_rows(output, 7)[2100]
+def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rain):
+    """A run restarted at step N, chosen so that grains found below the exit
+    at the end of step N re-enter at step N + 1, goes on as the
+    uninterrupted rain: the re-entry still happens at N + 1 (the pending
+    request is in the restart file; it was lost before, and the grains
+    re-entered a step late), the counts, the random sequence and the
+    flow-rate samples are restored (thermo at N identical, rates included),
+    and the file's time column goes on from the time reached: the restarted
+    run in the same directory appends to the same file, which then holds
+    the lines of the uninterrupted rain up to step 4500, under one header,
+    with t = step x dt. (LIGGGHTS 3.8's own time restarts at 0 after
+    read_restart: with it, t was the time since the restart; and the file
+    used to be opened anew, losing the first part's lines.)"""
+    whole_dir, whole_output, _ = rain
+    whole = read_table(whole_dir / "exits.txt")
+    # in the first wave (exits from step 1780 to 1984): a flow rate to restore
+    restart_step = int(whole["step"][whole["step"] > 1900][0]) - 1
+    output = run(rain_deck(steps=restart_step, dump_every=100000, tail="write_restart rain.restart"))
+    before = thermo_rows(output, 7)[restart_step]
     resumed = f"""
 units si
 atom_modify map array
@@ -225,14 +234,19 @@ fix out all reinject exit z {EXIT} region top seed 15485863 file exits.txt rate_
 thermo_style custom step atoms f_out[1] f_out[2] f_out[3] f_out[4] f_out[5]
 thermo_modify format float %.15g
 thermo 100
-run 2400
+run {4500 - restart_step}
 """
     lines_before = (tmp_path / "exits.txt").read_text().splitlines()
-    after = thermo_rows(run(resumed), 7)[2100]
-    assert before[1] == N_GRAINS        # the first wave is through
-    assert after[:4] == before[:4]
+    after = thermo_rows(run(resumed), 7)
+    assert after[restart_step] == before
+    assert before[2] > 0 and before[5] > 0       # grains out, and a flow rate to restore
+    # thermo every 100 steps after the restart: as in the uninterrupted run
+    uninterrupted = thermo_rows(whole_output, 7)
+    later = [step for step in after if step > restart_step]
+    assert len(later) >= 20
+    for step in later:
+        assert after[step] == pytest.approx(uninterrupted[step], rel=1e-12), step
 
-    whole_dir, _, _ = rain
     whole_lines = (whole_dir / "exits.txt").read_text().splitlines()
     pieced_lines = (tmp_path / "exits.txt").read_text().splitlines()
     # the first part's lines are kept, the header is not repeated
@@ -241,10 +255,11 @@ run 2400
     assert len(header) == 2
     assert [line for line in pieced_lines if line.startswith("#")] == header
 
-    whole = read_table(whole_dir / "exits.txt")
     pieced = read_table(tmp_path / "exits.txt")
     until_end = whole["step"] <= 4500
-    assert (pieced["step"] <= 2100).sum() >= 10 and (pieced["step"] > 2100).sum() >= 10
+    assert (pieced["step"] <= restart_step).sum() >= 10 and (pieced["step"] > restart_step).sum() >= 10
+    # the pending re-entry happens on the first step after the restart
+    assert restart_step + 1 in pieced["step"]
     for column in ("step", "n_out", "avalanche"):
         np.testing.assert_array_equal(pieced[column], whole[column][until_end], err_msg=column)
     np.testing.assert_allclose(pieced["mass_out"], whole["mass_out"][until_end], rtol=1e-14)

@@ -122,7 +122,9 @@ class Runner:
         return variables
 
     def liggghts(self, deck, variables, log):
-        command = [str(BINARY), "-in", str(INPUTS / "pile2d" / deck), "-log", "none"]
+        # stdbuf: LIGGGHTS' Error::one prints without a flush before
+        # MPI_Abort (doc/liggghts_quirks.md); line buffering keeps the message
+        command = ["stdbuf", "-oL", str(BINARY), "-in", str(INPUTS / "pile2d" / deck), "-log", "none"]
         for name, value in variables.items():
             command += ["-var", name, str(value)]
         if self.args.mpi > 1:

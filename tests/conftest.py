@@ -31,7 +31,9 @@ def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600):
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
-    command = [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen", "-log", "log.liggghts"]
+    # stdbuf: LIGGGHTS' Error::one prints its message without a flush
+    # before MPI_Abort (doc/liggghts_quirks.md); line buffering keeps it
+    command = ["stdbuf", "-oL", str(LIGGGHTS), "-in", "in.deck", "-echo", "screen", "-log", "log.liggghts"]
     for name, value in (variables or {}).items():
         command += ["-var", name, str(value)]
     if nprocs > 1:

@@ -25,7 +25,7 @@ import pytest
 
 from analysis.lammps_io import read_table
 from analysis.silo3d_rotating import stationary_flow_rate
-from conftest import ROOT, has_mpirun
+from conftest import ROOT, LiggghtsError, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
 MASS = 620.0 * math.pi / 6.0 * 0.0099 ** 3
@@ -139,3 +139,14 @@ def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
     # the deck's last act marks the run finished (the analysis leaves out others)
     assert params["discharge_time"] == 0.3
     assert params["finished"] == pytest.approx(record["t"][-1], abs=0.011)
+
+
+def test_a_seed_equal_to_the_grain_template_s_is_refused_with_its_message(run):
+    """The deck's seed must differ from the seeds of its particle template
+    and distribution (86028121, 86028157): LIGGGHTS' insert/pack refuses
+    equal seeds through Error::one, which prints without a flush before
+    MPI_Abort; run under `stdbuf -oL` (conftest, the example scripts) the
+    message still reaches whoever ran the deck (doc/liggghts_quirks.md)."""
+    with pytest.raises(LiggghtsError) as caught:
+        run(quick_deck(seed=86028121, write_packing=1, discharge_time=0))
+    assert "Fix insert/pack" in caught.value.message and "random seeds" in caught.value.message

@@ -27,7 +27,9 @@ if [ "$NPROCS" -gt 1 ]; then
 fi
 echo "silo2d example: $NARCHES arches, dt $DT, $NPROCS rank(s), in $RUN_DIR"
 start=$(date +%s)
-"${launcher[@]}" "$LIGGGHTS" -in "$ROOT/inputs/silo2d/in.silo2d" -echo none \
+# stdbuf: an Error::one message is printed without a flush before MPI_Abort
+# (doc/liggghts_quirks.md); line buffering keeps it and shows progress at once
+"${launcher[@]}" stdbuf -oL "$LIGGGHTS" -in "$ROOT/inputs/silo2d/in.silo2d" -echo none \
   -var inputs "$ROOT/inputs" -var mu 0.4 -var dt "$DT" -var narches "$NARCHES" \
   -var seed "$SEED" "$@" | grep --line-buffered -E "^(silo2d|fix clog|ERROR|WARNING: [^N])"
 end=$(date +%s)

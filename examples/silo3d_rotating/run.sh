@@ -31,6 +31,10 @@ TRANSIENT="${TRANSIENT:-0.5}"
 FIELDS="${FIELDS:-0.06 0 0.06 0.32 0.06 1.28}"
 JOBS="${JOBS:-1}"
 LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
+# line-buffered output: progress reaches screen.txt as it happens, and a
+# message of LIGGGHTS' Error::one (printed without a flush before
+# MPI_Abort, doc/liggghts_quirks.md) is not lost
+UNBUFFERED=(stdbuf -oL)
 PYTHON="${PYTHON:-/usr/bin/python3}"
 DECK="$ROOT/inputs/silo3d_rotating/in.silo3d_rotating"
 COMMON=(-echo none -var inputs "$ROOT/inputs" -var dt_fraction "$DT_FRACTION")
@@ -43,7 +47,7 @@ settle() {   # one packing per seed
   [ -f "$dir/finished" ] && return 0
   mkdir -p "$dir"
   log "settling the packing of seed $seed in $dir"
-  (cd "$dir" && "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
+  (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
       -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
   touch "$dir/finished"
 }
@@ -65,7 +69,7 @@ discharge() {  # one (D, f, seed) run
   wants_fields "$D" "$f" && dump=0.05
   start=$(date +%s)
   log "D $D f $f seed $seed: running (dumps every $dump s)"
-  (cd "$dir" && "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
+  (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
       -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject 1 -var D "$D" -var f "$f" \
       -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" > screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }

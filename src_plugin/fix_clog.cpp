@@ -263,7 +263,20 @@ void FixClog::init()
 
 FILE *FixClog::open_record(const char *name, const char *header)
 {
-  return silokit::open_record(directory + "/" + name, restored, header);
+  // after a restart: the clogs past those the restart file knows are
+  // removed (the run finds them again); every record begins with the clog
+  const silokit::KeptRows kept = { 0, static_cast<double>(attempts) };
+  long dropped = 0;
+  FILE *file = silokit::open_record(directory + "/" + name, restored, header, kept, &dropped);
+  if (dropped > 0) {
+    char message[256];
+    snprintf(message, sizeof(message), "fix clog: removed %ld line(s) of clogs after clog %d from '%s', "
+             "written after the restart file by the run that wrote it; this run records them again\n",
+             dropped, attempts, name);
+    if (screen) fputs(message, screen);
+    if (logfile) fputs(message, logfile);
+  }
+  return file;
 }
 
 // After a restart the records are appended to, so that one series of

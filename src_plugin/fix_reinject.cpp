@@ -142,7 +142,8 @@ void FixReinject::parse_arguments(int narg, char **arg)
 /* ----------------------------------------------------------------------
    opened at the first init, not in the constructor: LIGGGHTS calls
    restart() after it, and a restored fix appends to the record, so that
-   the pieces of a restarted run write one file (silokit_record.h)
+   the pieces of a restarted run write one file (silokit_record.h); its
+   clock then reads the time the restart file was written at
 ------------------------------------------------------------------------- */
 
 void FixReinject::open_record_file()
@@ -154,8 +155,20 @@ void FixReinject::open_record_file()
     snprintf(plane, sizeof(plane), "%c = %g", "xyz"[axis], exit_coordinate);
     const std::string header = std::string("# fix reinject ") + id +
       ": grains re-entered after leaving below " + plane + "\n# step t n_out mass_out avalanche";
-    record = silokit::open_record(file_name, restored, header.c_str());
+    // after a restart: lines past the time the restart file was written at
+    // are removed (the run repeats those steps)
+    const silokit::KeptRows kept = { 1, simulated_time() };
+    long dropped = 0;
+    record = silokit::open_record(file_name, restored, header.c_str(), kept, &dropped);
     opened = record != NULL;
+    if (dropped > 0) {
+      char message[256];
+      snprintf(message, sizeof(message), "fix reinject: removed %ld line(s) past t = %.10g from '%s', "
+               "written after the restart file by the run that wrote it; this run records them again\n",
+               dropped, kept.last, file_name.c_str());
+      if (screen) fputs(message, screen);
+      if (logfile) fputs(message, logfile);
+    }
   }
   MPI_Bcast(&opened, 1, MPI_INT, 0, world);
   if (!opened) {

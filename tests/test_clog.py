@@ -342,6 +342,26 @@ def test_a_restarted_run_finds_the_same_clog_at_the_same_time(run, tmp_path, pie
     assert since_moved[550] == pytest.approx((550 - noticed) * DT)
 
 
+def test_a_run_resumed_from_an_older_restart_records_each_clog_once(run, tmp_path):
+    """The first piece writes its restart file at step 500 (before the clog
+    at 570), runs on through the clog and stops, as a run cut by a time
+    limit; resumed from that file in the same directory, the run finds the
+    clog again. The records the first piece wrote after its restart file
+    are removed when the resumed fix opens them (with a message), so the
+    records are those of the uninterrupted run, each clog once."""
+    whole = tmp_path / "whole"
+    run(faller_deck(), subdir="whole")
+    first = run(faller_deck(max_chunks=10, tail="write_restart state0.restart\nrun 200"), subdir="pieces")
+    assert "clog 1 at t = 0.0057 s (step 570)" in first
+    assert read_table(tmp_path / "pieces" / "clogs.txt")["clog"].tolist() == [1]
+    resumed = run(faller_deck(restart_file="state0.restart", max_chunks=10), subdir="pieces")
+    assert "clog 1 at t = 0.0057 s (step 570)" in resumed
+    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+        rows = len((whole / name).read_text().splitlines()) - 1
+        assert f"fix clog: removed {rows} line(s) of clogs after clog 0 from '{name}'" in resumed, name
+        assert (tmp_path / "pieces" / name).read_text() == (whole / name).read_text(), name
+
+
 FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom 0.0 "
             "every 10 quiet_time 0.001 action stop")
 

@@ -196,8 +196,9 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
 
 def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rain):
     """A run restarted at step N, chosen so that grains found below the exit
-    at the end of step N re-enter at step N + 1, goes on as the
-    uninterrupted rain: the re-entry still happens at N + 1 (the pending
+    at the end of step N re-enter at step N + 1, whose first piece ran on
+    past N after writing the restart file, goes on as the uninterrupted
+    rain: the re-entry still happens at N + 1 (the pending
     request is in the restart file; it was lost before, and the grains
     re-entered a step late), the counts, the random sequence and the
     flow-rate samples are restored (thermo at N identical, rates included),
@@ -211,8 +212,14 @@ def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rai
     whole = read_table(whole_dir / "exits.txt")
     # in the first wave (exits from step 1780 to 1984): a flow rate to restore
     restart_step = int(whole["step"][whole["step"] > 1900][0]) - 1
-    output = run(rain_deck(steps=restart_step, dump_every=100000, tail="write_restart rain.restart"))
+    # the first piece runs on for 300 steps after writing the restart file
+    # and then stops, as a run cut by a time limit: the lines it wrote
+    # after the restart file are removed when the resumed run opens the file
+    output = run(rain_deck(steps=restart_step, dump_every=100000,
+                           tail="write_restart rain.restart\nrun 300"))
     before = thermo_rows(output, 7)[restart_step]
+    ran_on = read_table(tmp_path / "exits.txt")["step"] > restart_step
+    assert ran_on.sum() >= 5
     resumed = f"""
 units si
 atom_modify map array
@@ -236,8 +243,11 @@ thermo_modify format float %.15g
 thermo 100
 run {4500 - restart_step}
 """
-    lines_before = (tmp_path / "exits.txt").read_text().splitlines()
-    after = thermo_rows(run(resumed), 7)
+    lines_before = (tmp_path / "exits.txt").read_text().splitlines()[:-int(ran_on.sum())]
+    resumed_output = run(resumed)
+    assert (f"fix reinject: removed {ran_on.sum()} line(s) past t = {restart_step * DT:.10g} "
+            "from 'exits.txt'") in resumed_output
+    after = thermo_rows(resumed_output, 7)
     assert after[restart_step] == before
     assert before[2] > 0 and before[5] > 0       # grains out, and a flow rate to restore
     # thermo every 100 steps after the restart: as in the uninterrupted run
@@ -249,7 +259,8 @@ run {4500 - restart_step}
 
     whole_lines = (whole_dir / "exits.txt").read_text().splitlines()
     pieced_lines = (tmp_path / "exits.txt").read_text().splitlines()
-    # the first part's lines are kept, the header is not repeated
+    # the first part's lines up to N are kept, those it wrote after the
+    # restart file are not, the header is not repeated
     assert pieced_lines[:len(lines_before)] == lines_before
     header = [line for line in whole_lines if line.startswith("#")]
     assert len(header) == 2

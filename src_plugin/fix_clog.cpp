@@ -271,10 +271,9 @@ FILE *FixClog::open_record(const char *name, const char *header)
   if (dropped > 0) {
     char message[256];
     snprintf(message, sizeof(message), "fix clog: removed %ld line(s) of clogs after clog %d from '%s', "
-             "written after the restart file by the run that wrote it; this run records them again\n",
+             "written after the restart file by the run that wrote it; this run records them again",
              dropped, attempts, name);
-    if (screen) fputs(message, screen);
-    if (logfile) fputs(message, logfile);
+    error->message(FLERR, message);
   }
   return file;
 }

@@ -164,10 +164,9 @@ void FixReinject::open_record_file()
     if (dropped > 0) {
       char message[256];
       snprintf(message, sizeof(message), "fix reinject: removed %ld line(s) past t = %.10g from '%s', "
-               "written after the restart file by the run that wrote it; this run records them again\n",
+               "written after the restart file by the run that wrote it; this run records them again",
                dropped, kept.last, file_name.c_str());
-      if (screen) fputs(message, screen);
-      if (logfile) fputs(message, logfile);
+      error->message(FLERR, message);
     }
   }
   MPI_Bcast(&opened, 1, MPI_INT, 0, world);

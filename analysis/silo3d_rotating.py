@@ -362,6 +362,38 @@ def flow_groups(runs, level=CONFIDENCE):
     return rows
 
 
+def flow_changes(runs, level=CONFIDENCE):
+    """Rows per (f, D) with f > 0: the relative change of Q from f = 0,
+    Q(f)/Q(0) - 1, paired by seed (the runs of one seed start from the same
+    packing, so their difference is freer of the packing's own noise than
+    the difference of the means). The mean over the seeds that have both
+    runs, its standard error and CI half width as in seed_mean_ci: from the
+    spread of the per-seed changes for n >= 2; for one seed from the two
+    runs' block standard errors, propagated, with the smaller of their
+    degrees of freedom."""
+    at_rest = {(r.key[1], r.info["seed"]): r for r in runs
+               if r.key[0] == 0.0 and np.isfinite(r.flow.q_mass) and r.flow.q_mass > 0}
+    rows = []
+    for (f, D), members in group_by_key(runs).items():
+        if f == 0.0:
+            continue
+        changes, ses, dofs = [], [], []
+        for run in members:
+            rest = at_rest.get((D, run.info["seed"]))
+            if rest is None or not np.isfinite(run.flow.q_mass):
+                continue
+            ratio = run.flow.q_mass / rest.flow.q_mass
+            changes.append(ratio - 1.0)
+            ses.append(ratio * np.hypot(run.flow.q_mass_se / run.flow.q_mass,
+                                        rest.flow.q_mass_se / rest.flow.q_mass))
+            dofs.append(min(run.flow.blocks, rest.flow.blocks) - 1)
+        if changes:
+            mean, se, half = seed_mean_ci(changes, ses, dofs, level)
+            rows.append({"f": f, "D": D, "n": len(changes), "change": mean, "change_se": se,
+                         "change_ci": half})
+    return rows
+
+
 def flow_fits(rows, d):
     """Beverloo and exponential fits of Q(D) per f, with sigma = the
     standard error over seeds; f values with fewer than two orifice sizes
@@ -582,7 +614,7 @@ def write_table(path_stem, header, rows, title):
     Path(f"{path_stem}.md").write_text("\n".join(lines) + "\n")
 
 
-def write_flow_tables(out, runs, groups, fits, d):
+def write_flow_tables(out, runs, groups, changes, fits, d):
     header = ["f", "D", "seed", "reinject", "Q_kg_s", "Q_kg_s_se", "Q_grains_s", "Q_grains_s_se",
               "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end"]
     rows = [[r.info["f"], r.info["D"], r.info["seed"], r.info["reinject"], r.flow.q_mass, r.flow.q_mass_se,
@@ -599,6 +631,12 @@ def write_flow_tables(out, runs, groups, fits, d):
     write_table(out / "flow_rate", header, rows,
                 "Q(f, D): mean over seeds, standard error and 95 % CI half width (Student t; "
                 "for a single seed from its block standard error)")
+    header = ["f", "D", "n", "change", "change_se", "change_ci95"]
+    rows = [[c["f"], c["D"], c["n"], c["change"], c["change_se"], c["change_ci"]] for c in changes]
+    write_table(out / "flow_rate_change", header, rows,
+                "Relative change of Q from f = 0, Q(f)/Q(0) - 1, paired by seed: mean over the n seeds "
+                "with both runs, standard error and 95 % CI half width (Student t; for a single seed "
+                "from the two runs' block standard errors)")
     header = ["f", "C", "C_se", "k", "k_se", "beverloo_dof", "beverloo_chi2_dof",
               "A", "A_se", "kappa", "kappa_se", "exp_dof", "exp_chi2_dof"]
     rows = [[f, b["C"], b["C_se"], b["k"], b["k_se"], b["dof"], b["chi2_dof"],
@@ -860,7 +898,11 @@ def main(argv=None):
     groups = flow_groups(runs)
     d = runs[0].info["d"]
     fits = flow_fits(groups, d)
-    write_flow_tables(args.out, runs, groups, fits, d)
+    changes = flow_changes(runs)
+    write_flow_tables(args.out, runs, groups, changes, fits, d)
+    for c in changes:
+        progress(f"f = {c['f']:g} Hz, D = {c['D'] * 1e3:g} mm: Q changes by {100 * c['change']:+.1f} "
+                 f"+- {100 * c['change_ci']:.1f} % (95 %) from f = 0 over {c['n']} seed(s)")
     for f, fit in fits.items():
         b, e = fit["beverloo"], fit["exponential"]
         progress(f"f = {f:g} Hz: Beverloo C = {b['C']:.4g} +- {b['C_se']:.2g}, k = {b['k']:.3g} +- "

@@ -211,6 +211,32 @@ def test_seed_mean_ci_student_t_by_hand():
     assert (mean, se, half) == pytest.approx((5.0, 0.2, 2.262157162740992 * 0.2), rel=1e-12)
 
 
+def flow_run(f, D, seed, q, q_se, blocks=10):
+    """A Run with only what flow_changes reads: f, D, seed and its FlowRate."""
+    flow = silo.FlowRate(q, q_se, np.nan, np.nan, blocks, 0.0, 1.0, 1.0, np.zeros((0, 2)), False)
+    return silo.Run(Path("."), {"f": f, "D": D, "seed": seed}, {}, np.zeros(0), flow)
+
+
+def test_relative_change_from_rest_is_paired_by_seed_by_hand():
+    runs = [flow_run(0.0, 0.04, 1, 1.0, 0.05), flow_run(0.0, 0.04, 2, 2.0, 0.05),
+            flow_run(1.28, 0.04, 1, 1.1, 0.05), flow_run(1.28, 0.04, 2, 2.4, 0.05),
+            flow_run(0.0, 0.06, 1, 2.0, 0.1), flow_run(0.32, 0.06, 1, 2.2, 0.1),
+            flow_run(0.32, 0.06, 2, 9.9, 0.1),             # seed 2 has no f = 0 run at 6 cm
+            flow_run(0.32, 0.05, 1, 1.0, 0.1)]             # nor has any seed at 5 cm
+    rows = {(r["f"], r["D"]): r for r in silo.flow_changes(runs)}
+    assert sorted(rows) == [(0.32, 0.06), (1.28, 0.04)]
+    # two seeds: changes 0.1 and 0.2 (paired; the means would give 3.5/3 - 1 = 0.1667):
+    # mean 0.15, se = sd/sqrt 2 = 0.05, t(0.975, 1 dof) = 12.706204736174707
+    two = rows[(1.28, 0.04)]
+    assert (two["n"], two["change"], two["change_se"]) == (2, pytest.approx(0.15), pytest.approx(0.05))
+    assert two["change_ci"] == pytest.approx(12.706204736174707 * 0.05, rel=1e-9)   # 1.1/1 - 1 is 0.1 + 9e-17
+    # one seed: 2.2/2.0 - 1 = 0.1, se = 1.1 hypot(0.1/2.2, 0.1/2.0), t(0.975, 9 dof)
+    one = rows[(0.32, 0.06)]
+    se = 1.1 * math.hypot(0.1 / 2.2, 0.1 / 2.0)
+    assert (one["n"], one["change"], one["change_se"]) == (1, pytest.approx(0.1), pytest.approx(se, rel=1e-12))
+    assert one["change_ci"] == pytest.approx(2.262157162740992 * se, rel=1e-12)
+
+
 # ------------------------------------------------------------------ fits
 
 D_VALUES = np.array([0.03, 0.04, 0.05, 0.06, 0.07])
@@ -347,7 +373,11 @@ def test_cli_writes_tables_and_plots(tmp_path):
                                                           rel=1e-6)
     fits = read_table(out / "flow_rate_fits.txt")
     assert fits["f"].tolist() == [0.32] and fits["beverloo_dof"].tolist() == [1]
-    for name in ("Q_vs_f.png", "Q_vs_D_loglog.png", "Q_vs_D_semilog.png", "flow_rate.md", "flow_rate_fits.md"):
+    change = read_table(out / "flow_rate_change.txt")               # no run at f = 0: no rows
+    assert list(change) == ["f", "D", "n", "change", "change_se", "change_ci95"]
+    assert all(column.size == 0 for column in change.values())
+    for name in ("Q_vs_f.png", "Q_vs_D_loglog.png", "Q_vs_D_semilog.png", "flow_rate.md", "flow_rate_fits.md",
+                 "flow_rate_change.md"):
         assert (out / name).stat().st_size > 0
 
     # fields of the run with dumps

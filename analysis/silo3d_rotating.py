@@ -31,6 +31,7 @@ ORIENTATION_COLUMNS = ("ox", "oy", "oz")
 # doc/silo3d_rotating_records.md.
 TRANSIENT = 1.0
 MIN_GAP = 1.0
+MIN_FLOWING_FRACTION = 0.5
 END_FRACTION = 0.6
 BLOCKS = 10
 CONFIDENCE = 0.95
@@ -172,6 +173,7 @@ class FlowRate:
     effective_duration: float
     gaps: np.ndarray
     clogged_at_end: bool
+    stationary: bool = True
 
     @property
     def removed(self):
@@ -189,20 +191,25 @@ def block_rates(tau_eff, cumulative, duration, blocks):
     return np.diff(at_edges) / np.diff(edges)
 
 
-def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, blocks=BLOCKS):
+def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, blocks=BLOCKS,
+                         min_flowing_fraction=MIN_FLOWING_FRACTION):
     """Q over [start, end] with the no-flow intervals longer than min_gap
     removed from the time base: Q = (m(end) - m(start)) / T_eff. Its
     standard error is std(Q_b, ddof=1)/sqrt(B) over B blocks of equal
     effective time (block averages: robust to the correlation of exits
-    that a fit to the cumulative mass ignores)."""
+    that a fit to the cumulative mass ignores). A run that flowed for less
+    than min_flowing_fraction of the window has no stationary flow (a clog
+    that a grain or two left in the remaining time would otherwise give a
+    Q): its Q and errors are NaN and `stationary` is False."""
     tau = np.asarray(tau, dtype=float)
     inside = (tau >= start) & (tau <= end)
     gaps = no_flow_intervals(tau, n_out, start, end, min_gap)
     tau_eff = effective_time(tau[inside], start, gaps)
     duration = tau_eff[-1] if inside.any() else 0.0
     clogged = bool(len(gaps) and gaps[-1, 1] >= end)
-    if duration <= 0:
-        return FlowRate(np.nan, np.nan, np.nan, np.nan, blocks, start, end, 0.0, gaps, clogged)
+    if duration <= 0 or duration < min_flowing_fraction * (end - start):
+        return FlowRate(np.nan, np.nan, np.nan, np.nan, blocks, start, end, max(duration, 0.0), gaps,
+                        clogged, stationary=False)
     rates = {}
     for name, cumulative in (("mass", mass_out), ("grains", n_out)):
         cumulative = np.asarray(cumulative, dtype=float)[inside]
@@ -318,12 +325,13 @@ def load_run(run_dir):
     return Run(Path(run_dir), info, discharge, discharge["t"] - info["t_open"])
 
 
-def analyse_flow(run, transient=TRANSIENT, min_gap=MIN_GAP, end_fraction=END_FRACTION, blocks=BLOCKS):
+def analyse_flow(run, transient=TRANSIENT, min_gap=MIN_GAP, end_fraction=END_FRACTION, blocks=BLOCKS,
+                 min_flowing_fraction=MIN_FLOWING_FRACTION):
     total_mass = run.info["N"] * run.info["mass"]
     start, end = analysis_window(run.tau, run.discharge["mass_out"], total_mass,
                                  bool(run.info["reinject"]), transient, end_fraction)
     run.flow = stationary_flow_rate(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
-                                    start, end, min_gap, blocks)
+                                    start, end, min_gap, blocks, min_flowing_fraction)
     return run.flow
 
 
@@ -347,18 +355,22 @@ def group_by_key(runs):
 
 
 def flow_groups(runs, level=CONFIDENCE):
-    """Rows per (f, D): f, D, n, Q mean, se, CI half width (kg/s), and the
-    same in grains/s. Runs without a finite Q are left out."""
+    """Rows per (f, D): f, D, n, Q mean, se, CI half width (kg/s), the
+    same in grains/s, and n_no_flow, the runs without a stationary flow,
+    which are left out of Q (as are runs without a finite Q)."""
     rows = []
-    for (f, D), members in group_by_key(runs).items():
-        members = [r for r in members if np.isfinite(r.flow.q_mass)]
+    for (f, D), all_members in group_by_key(runs).items():
+        members = [r for r in all_members if np.isfinite(r.flow.q_mass)]
+        no_flow = sum(not r.flow.stationary for r in all_members)
         if not members:
+            rows.append({"f": f, "D": D, "n": 0, "Q": np.nan, "Q_se": np.nan, "Q_ci": np.nan,
+                         "Qn": np.nan, "Qn_se": np.nan, "Qn_ci": np.nan, "n_no_flow": no_flow})
             continue
         dofs = [r.flow.blocks - 1 for r in members]
         q = seed_mean_ci([r.flow.q_mass for r in members], [r.flow.q_mass_se for r in members], dofs, level)
         n = seed_mean_ci([r.flow.q_grains for r in members], [r.flow.q_grains_se for r in members], dofs, level)
         rows.append({"f": f, "D": D, "n": len(members), "Q": q[0], "Q_se": q[1], "Q_ci": q[2],
-                     "Qn": n[0], "Qn_se": n[1], "Qn_ci": n[2]})
+                     "Qn": n[0], "Qn_se": n[1], "Qn_ci": n[2], "n_no_flow": no_flow})
     return rows
 
 
@@ -616,21 +628,23 @@ def write_table(path_stem, header, rows, title):
 
 def write_flow_tables(out, runs, groups, changes, fits, d):
     header = ["f", "D", "seed", "reinject", "Q_kg_s", "Q_kg_s_se", "Q_grains_s", "Q_grains_s_se",
-              "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end"]
+              "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end", "stationary"]
     rows = [[r.info["f"], r.info["D"], r.info["seed"], r.info["reinject"], r.flow.q_mass, r.flow.q_mass_se,
              r.flow.q_grains, r.flow.q_grains_se, r.flow.blocks, r.flow.start, r.flow.end,
-             r.flow.effective_duration, r.flow.removed, len(r.flow.gaps), int(r.flow.clogged_at_end)]
+             r.flow.effective_duration, r.flow.removed, len(r.flow.gaps), int(r.flow.clogged_at_end),
+             int(r.flow.stationary)]
             for r in runs]
     write_table(out / "flow_rate_runs", header, rows,
                 "Stationary flow rate per run (SI units; se = block standard error; times since opening). "
                 "Runs: " + ", ".join(f"{r.label} = {r.path}" for r in runs))
     header = ["f", "D", "n", "Q_kg_s", "Q_kg_s_se", "Q_kg_s_ci95", "Q_grains_s", "Q_grains_s_se",
-              "Q_grains_s_ci95"]
-    rows = [[g["f"], g["D"], g["n"], g["Q"], g["Q_se"], g["Q_ci"], g["Qn"], g["Qn_se"], g["Qn_ci"]]
-            for g in groups]
+              "Q_grains_s_ci95", "n_no_flow"]
+    rows = [[g["f"], g["D"], g["n"], g["Q"], g["Q_se"], g["Q_ci"], g["Qn"], g["Qn_se"], g["Qn_ci"],
+             g["n_no_flow"]] for g in groups]
     write_table(out / "flow_rate", header, rows,
-                "Q(f, D): mean over seeds, standard error and 95 % CI half width (Student t; "
-                "for a single seed from its block standard error)")
+                "Q(f, D): mean over the n seeds with a stationary flow, standard error and 95 % CI half "
+                "width (Student t; for a single seed from its block standard error); n_no_flow runs "
+                "had no stationary flow (they flowed for less than the set fraction of the window)")
     header = ["f", "D", "n", "change", "change_se", "change_ci95"]
     rows = [[c["f"], c["D"], c["n"], c["change"], c["change_se"], c["change_ci"]] for c in changes]
     write_table(out / "flow_rate_change", header, rows,
@@ -816,6 +830,9 @@ def parse_args(argv):
                       help="start transient left out after the opening (s, default %(default)s)")
     flow.add_argument("--gap", type=float, default=MIN_GAP,
                       help="no-flow intervals longer than this are cut from the time base (s, default %(default)s)")
+    flow.add_argument("--min-flowing-fraction", type=float, default=MIN_FLOWING_FRACTION,
+                      help="a run that flowed (no-flow intervals cut) for less than this fraction of its "
+                           "window has no stationary flow and no Q (default %(default)s)")
     flow.add_argument("--end-fraction", type=float, default=END_FRACTION,
                       help="without reinjection, stop when this fraction of the grains' mass is out "
                            "(default %(default)s)")
@@ -888,10 +905,15 @@ def main(argv=None):
         return 1
     for run, label in zip(runs, run_labels(runs)):
         run.label = label
-        flow = analyse_flow(run, args.transient, args.gap, args.end_fraction, args.blocks)
-        progress(f"{label}: Q = {flow.q_mass:.5g} +- {flow.q_mass_se:.2g} kg/s = {flow.q_grains:.5g} "
-                 f"+- {flow.q_grains_se:.2g} grains/s over {flow.effective_duration:.3g} s "
-                 f"({len(flow.gaps)} no-flow intervals, {flow.removed:.3g} s removed)")
+        flow = analyse_flow(run, args.transient, args.gap, args.end_fraction, args.blocks,
+                            args.min_flowing_fraction)
+        if flow.stationary:
+            progress(f"{label}: Q = {flow.q_mass:.5g} +- {flow.q_mass_se:.2g} kg/s = {flow.q_grains:.5g} "
+                     f"+- {flow.q_grains_se:.2g} grains/s over {flow.effective_duration:.3g} s "
+                     f"({len(flow.gaps)} no-flow intervals, {flow.removed:.3g} s removed)")
+        else:
+            progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
+                     f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")
         directory = args.out / "runs" / label
         directory.mkdir(parents=True, exist_ok=True)
         plot_discharge(directory / "discharge.png", run, args.rate_window)

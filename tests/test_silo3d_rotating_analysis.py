@@ -189,6 +189,22 @@ def test_flow_that_stops_for_good_is_cut_and_flagged():
     assert flow.q_grains == pytest.approx(280 / 13.98, rel=1e-12)
 
 
+def test_a_clog_with_a_grain_or_two_after_it_has_no_stationary_flow():
+    # the flow of a clogged small orifice (the 4.2 d runs): 20 grains/s up
+    # to 0.3 s, then one grain at 1.755 s in a 2 s record. Window [0.5, 2]:
+    # no exit in (0.5, 1.76], so [0.5, 1.76] (1.26 s) is cut and the 0.24 s
+    # left hold one grain: flowing 0.24 s < 0.5 x 1.5 s, no stationary flow
+    exits = np.append(regular_exits(20.0, 0.3), 1.755)
+    tau, n_out, mass_out = record(exits, 2.0)
+    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0)
+    assert np.allclose(flow.gaps, [[0.5, 1.76]])
+    assert flow.effective_duration == pytest.approx(0.24)
+    assert not flow.stationary and np.isnan(flow.q_grains) and np.isnan(flow.q_mass_se)
+    # without the rule, that one grain would be a flow rate of 1/0.24 grains/s
+    kept = silo.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0, min_flowing_fraction=0.0)
+    assert kept.stationary and kept.q_grains == pytest.approx(1 / 0.24, rel=1e-9)
+
+
 def test_block_error_of_a_poisson_flow():
     # Poisson exits at 50 grains/s for 200 s: the count in T has variance
     # 50 T, so se(Q) = sqrt(50 / 200) = 0.5 grains/s. With 40 blocks the
@@ -364,7 +380,8 @@ def test_cli_writes_tables_and_plots(tmp_path):
         assert row["Q_kg_s"] == pytest.approx(row["Q_grains_s"] * GRAIN_MASS, rel=1e-7)
 
     groups = read_table(out / "flow_rate.txt")
-    assert groups["n"].tolist() == [2, 2, 2]
+    assert groups["n"].tolist() == [2, 2, 2] and groups["n_no_flow"].tolist() == [0, 0, 0]
+    assert per_run["stationary"].tolist() == [1] * 6
     # by hand from the rates above, two seeds per D; t(0.975, 1 dof) = 12.706204736174707
     for k, rate in enumerate((20.0, 40.0, 80.0)):
         seeds = np.array([rate, 9 * rate / (11 - removed[rate])]) * GRAIN_MASS

@@ -342,6 +342,39 @@ def test_a_restarted_run_finds_the_same_clog_at_the_same_time(run, tmp_path, pie
     assert since_moved[550] == pytest.approx((550 - noticed) * DT)
 
 
+def test_an_arch_broken_on_the_restart_step_re_enters_after_the_restart(run, tmp_path):
+    """With `action break`, the arch found at step 570 is broken by asking
+    fix reinject to move its grains to the top on step 571. A run cut by
+    write_restart on step 570 itself carries that request in fix reinject's
+    restart data: the restarted run moves the same grains to the same spots
+    on step 571, and the records (the clog, then the next attempt over the
+    emptied outlet) are those of the uninterrupted run. (Before, the
+    request was lost at the restart and the arch stayed in place.)"""
+    clog_step, _ = expected_clog_step()
+    assert clog_step == 570
+    options = "action break arches 2"
+    walk_ids = range(9, 15)
+    where = "\n".join(f"variable x{i} equal x[{i}]\nvariable z{i} equal z[{i}]\n"
+                      f"print \"grain {i} at ${{x{i}}} ${{z{i}}}\"" for i in walk_ids)
+    whole = run(faller_deck(fix_options=options, run_loop=False, tail=f"run 700\n{where}"), subdir="whole")
+    run(faller_deck(fix_options=options, run_loop=False, tail="run 570\nwrite_restart state.restart"),
+        subdir="pieces")
+    pieced = run(faller_deck(fix_options=options, restart_file="state.restart", run_loop=False,
+                             tail=f"run 130\n{where}"), subdir="pieces")
+
+    def positions(output):
+        return {int(w[1]): (float(w[3]), float(w[4])) for w in
+                (line.split() for line in output.splitlines()) if len(w) == 5 and w[0] == "grain"}
+    moved = positions(whole)
+    assert positions(pieced) == moved
+    _, members, _ = expected_records()
+    # the arch's grains were moved up into the injection region (z > 0.06)
+    assert members and all(moved[m][1] > 0.06 for m in members)
+    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+        assert (tmp_path / "pieces" / name).read_text() == (tmp_path / "whole" / name).read_text(), name
+    assert read_table(tmp_path / "whole" / "clogs.txt")["clog"].tolist() == [1, 2]
+
+
 def test_a_run_resumed_from_an_older_restart_records_each_clog_once(run, tmp_path):
     """The first piece writes its restart file at step 500 (before the clog
     at 570), runs on through the clog and stops, as a run cut by a time

@@ -100,6 +100,19 @@
       neighbours (a regular arch) less than 180, a grain below it (a
       defect) more than 180.
 
+   8. Feet. The left foot is the walked grain just before the first member,
+      the right foot the final grain: the two grains on which the arch
+      rests, "the base of the arch" in the paper's Fig. 1. They are
+      returned with an angle of their own, for the reading in which they
+      count as arch grains (doc/fix_clog.md, "Feet"): as rule 7, with the
+      base grain in place of the missing walk neighbour. Of the base grains
+      of its side that a foot touches, that one is the base grain met first
+      when turning from the arch towards the orifice side, i.e. the one
+      that gives the smallest angle (for a foot in the pocket between two
+      base grains, the one nearer the orifice). A foot that is the walk's
+      start and touches both bases cannot occur with members between the
+      feet (rule 5 ends the walk at once).
+
    eta is the number of members.
 ------------------------------------------------------------------------- */
 
@@ -154,11 +167,18 @@ struct Member {
   double phi_degrees;   // rule 7 of the header comment
 };
 
+struct Foot {
+  std::size_t index;        // into the grain array
+  std::size_t base_index;   // the base grain that serves as its neighbour (rule 8)
+  double phi_degrees;       // rule 8 of the header comment
+};
+
 struct Arch {
   Status status;
   std::string reason;              // why there is no arch; empty when found
   std::vector<std::size_t> walk;   // grains visited, in order, feet included
   std::vector<Member> members;     // the arch, left to right
+  Foot left_foot, right_foot;      // rule 8; set only when the status is found
   std::size_t eta() const { return members.size(); }
 };
 
@@ -319,6 +339,28 @@ inline std::size_t first_member_position(const std::vector<Grain> &grains,
   return position;
 }
 
+// Rule 8: the foot `foot` of side `side`, whose neighbour in the arch is
+// `member`. The left foot precedes its member in the walk, the right foot
+// follows it; the base grain takes the place of the other neighbour.
+inline Foot foot_of(const std::vector<Grain> &grains, const Neighbours &neighbours,
+                    std::size_t foot, std::size_t member, Base side)
+{
+  Foot result = {foot, none, 0.0};
+  for (std::size_t base : neighbours[foot]) {
+    if (grains[base].base != side) continue;
+    const double phi = side == Base::left
+                       ? lower_side_angle(grains[base], grains[foot], grains[member])
+                       : lower_side_angle(grains[member], grains[foot], grains[base]);
+    const bool smaller = result.base_index == none || phi < result.phi_degrees
+                         || (phi == result.phi_degrees && grains[base].id < grains[result.base_index].id);
+    if (smaller) {
+      result.base_index = base;
+      result.phi_degrees = phi;
+    }
+  }
+  return result;
+}
+
 }  // namespace detail
 
 // The clogging arch of the grains, by rules 1-7 of the header comment.
@@ -344,8 +386,8 @@ inline Arch find_arch(const std::vector<Grain> &grains, const std::vector<Contac
 
   const std::vector<std::size_t> &walk = arch.walk;
   const std::size_t right_foot_position = walk.size() - 1;
-  for (std::size_t k = detail::first_member_position(grains, neighbours, walk);
-       k < right_foot_position; ++k) {
+  const std::size_t first = detail::first_member_position(grains, neighbours, walk);
+  for (std::size_t k = first; k < right_foot_position; ++k) {
     const Member member = {walk[k], detail::lower_side_angle(grains[walk[k - 1]], grains[walk[k]],
                                                             grains[walk[k + 1]])};
     arch.members.push_back(member);
@@ -354,7 +396,11 @@ inline Arch find_arch(const std::vector<Grain> &grains, const std::vector<Contac
     arch.status = Status::no_member;
     arch.reason = "the walk reached the right base at " + detail::grain_text(grains[walk.back()])
                   + " with no grain off the base between the feet";
+    return arch;
   }
+  arch.left_foot = detail::foot_of(grains, neighbours, walk[first - 1], walk[first], Base::left);
+  arch.right_foot = detail::foot_of(grains, neighbours, walk[right_foot_position],
+                                    walk[right_foot_position - 1], Base::right);
   return arch;
 }
 

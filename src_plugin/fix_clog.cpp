@@ -77,7 +77,7 @@ FixClog::FixClog(LAMMPS *lmp, int narg, char **arg) :
   own_contacts_compute(false), contacts(NULL), vertical(2), off_plane(1), gravity(0.0),
   attempts(0), arches_found(0), done(false), attempt_start(-1.0), last_exit_time(0.0),
   last_grains_out(0.0), last_ratio(0.0), restored(false),
-  clogs_file(NULL), arches_file(NULL), contacts_file(NULL)
+  clogs_file(NULL), arches_file(NULL), feet_file(NULL), contacts_file(NULL)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag)
     error->fix_error(FLERR, this, "needs per-atom radius, mass and omega (atom_style sphere or granular)");
@@ -175,6 +175,7 @@ FixClog::~FixClog()
   delete [] contacts_id;
   if (clogs_file) fclose(clogs_file);
   if (arches_file) fclose(arches_file);
+  if (feet_file) fclose(feet_file);
   if (contacts_file) fclose(contacts_file);
 }
 
@@ -286,12 +287,13 @@ void FixClog::open_records()
   if (comm->me == 0 && !clogs_file) {
     clogs_file = open_record("clogs.txt", "# clog step time avalanche eta status");
     arches_file = open_record("arches.txt", "# clog order id x y z phi fn ft");
+    feet_file = open_record("feet.txt", "# clog order id x y z phi fn ft base");
     contacts_file = open_record("contacts.txt", "# clog id1 id2 x z fn ft arch");
-    opened = clogs_file && arches_file && contacts_file;
+    opened = clogs_file && arches_file && feet_file && contacts_file;
   }
   MPI_Bcast(&opened, 1, MPI_INT, 0, world);
   if (!opened) {
-    const std::string message = "cannot write clogs.txt, arches.txt, contacts.txt in directory '"
+    const std::string message = "cannot write clogs.txt, arches.txt, feet.txt, contacts.txt in directory '"
                                 + directory + "'";
     error->fix_error(FLERR, this, message.c_str());
   }
@@ -509,6 +511,13 @@ FixClog::Outcome FixClog::identify_arch(const std::vector<GrainRecord> &grains,
     outcome.member_tags.push_back(static_cast<int>(walk_grains[arch.members[k].index].id));
     outcome.member_phi.push_back(arch.members[k].phi_degrees);
   }
+  if (arch.status == Status::found) {
+    for (const Foot &foot : {arch.left_foot, arch.right_foot}) {
+      outcome.foot_tags.push_back(static_cast<int>(walk_grains[foot.index].id));
+      outcome.foot_base_tags.push_back(static_cast<int>(walk_grains[foot.base_index].id));
+      outcome.foot_phi.push_back(foot.phi_degrees);
+    }
+  }
   return outcome;
 }
 
@@ -571,15 +580,26 @@ void FixClog::write_records(const Outcome &outcome, int avalanche,
   }
   std::map<int, const GrainRecord *> by_tag;
   for (size_t k = 0; k < grains.size(); ++k) by_tag[grains[k].tag] = &grains[k];
-  for (size_t k = 0; k < outcome.member_tags.size(); ++k) {
-    const int tag = outcome.member_tags[k];
+  // a grain's row of arches.txt or feet.txt, without the line's end
+  auto write_grain = [&](FILE *file, int order, int tag, double phi) {
     const GrainRecord &grain = *by_tag[tag];
     const int n = std::max(count[tag], 1);
-    fprintf(arches_file, "%d %d %d %.12g %.12g %.12g %.12g %.10g %.10g\n", clog,
-            static_cast<int>(k) + 1, tag, grain.horizontal, grain.off_plane, grain.height,
-            outcome.member_phi[k], sum_normal[tag]/n, sum_tangential[tag]/n);
+    fprintf(file, "%d %d %d %.12g %.12g %.12g %.12g %.10g %.10g", clog, order, tag,
+            grain.horizontal, grain.off_plane, grain.height, phi, sum_normal[tag]/n,
+            sum_tangential[tag]/n);
+  };
+  const int eta = static_cast<int>(outcome.member_tags.size());
+  for (int k = 0; k < eta; ++k) {
+    write_grain(arches_file, k + 1, outcome.member_tags[k], outcome.member_phi[k]);
+    fputc('\n', arches_file);
   }
   fflush(arches_file);
+  // the left foot before the first member (order 0), the right one after the last
+  for (size_t side = 0; side < outcome.foot_tags.size(); ++side) {
+    write_grain(feet_file, side == 0 ? 0 : eta + 1, outcome.foot_tags[side], outcome.foot_phi[side]);
+    fprintf(feet_file, " %d\n", outcome.foot_base_tags[side]);
+  }
+  fflush(feet_file);
 
   const std::set<int> members(outcome.member_tags.begin(), outcome.member_tags.end());
   for (size_t k = 0; k < contact_list.size(); ++k) {

@@ -62,6 +62,9 @@ class FixClog : public Fix {
     std::string reason;                     // why there is no arch
     std::vector<int> member_tags;           // in walk order
     std::vector<double> member_phi;         // degrees
+    std::vector<int> foot_tags;             // left, right (arch_walk.h rule 8); empty without arch
+    std::vector<int> foot_base_tags;        // the base grain each foot's angle is taken from
+    std::vector<double> foot_phi;           // degrees
   };
 
   // settings
@@ -97,7 +100,7 @@ class FixClog : public Fix {
 
   double last_ratio;           // Ec/Ep at the last check
   bool restored;               // state read from a restart file
-  FILE *clogs_file, *arches_file, *contacts_file;
+  FILE *clogs_file, *arches_file, *feet_file, *contacts_file;
 
   double simulated_time() const;
   void parse_arguments(int narg, char **arg);

@@ -83,6 +83,13 @@ void print_arch(const std::vector<Grain> &grains, const silokit::arch::Arch &arc
   for (const silokit::arch::Member &member : arch.members)
     std::printf(" %.17g", member.phi_degrees);
   std::printf("\neta %zu\n", arch.eta());
+  if (arch.status == silokit::arch::Status::found) {
+    const silokit::arch::Foot feet[2] = {arch.left_foot, arch.right_foot};
+    std::printf("feet %ld %ld\n", grains[feet[0].index].id, grains[feet[1].index].id);
+    std::printf("foot_bases %ld %ld\n", grains[feet[0].base_index].id,
+                grains[feet[1].base_index].id);
+    std::printf("foot_phi %.17g %.17g\n", feet[0].phi_degrees, feet[1].phi_degrees);
+  }
   std::printf("span %.17g\n", silokit::arch::horizontal_span(grains, arch));
 }
 

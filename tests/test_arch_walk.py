@@ -63,6 +63,10 @@ def parse_output(text):
         "phi": [float(word) for word in fields["phi"].split()],
         "eta": int(fields["eta"]),
         "span": float(fields["span"]),
+        # the two feet (rule 8), printed only when an arch is found
+        "feet": [int(word) for word in fields.get("feet", "").split()],
+        "foot_bases": [int(word) for word in fields.get("foot_bases", "").split()],
+        "foot_phi": [float(word) for word in fields.get("foot_phi", "").split()],
     }
 
 
@@ -253,6 +257,70 @@ def test_regular_arch(arch_walk):
     assert_angles(arch["phi"], [end_angle, middle_angle, middle_angle, end_angle])
     assert all(angle < 180.0 for angle in arch["phi"])
     assert arch["span"] == pytest.approx(3.0 - 2.0 * math.cos(math.radians(70.0)), abs=1e-12)
+
+
+def test_feet_of_a_regular_arch_rest_on_the_rim(arch_walk):
+    """Rule 8: the feet are the grains the arch rests on, each given the
+    angle of rule 7 with its rim grain as the missing neighbour. Here the
+    feet stand on the rim grains 30 degrees towards the orifice from their
+    tops, so they lean over the opening: the line from the rim grain's
+    centre to the first member passes on their outer side, and their
+    angles exceed 180 degrees."""
+    silo = regular_arch()
+    arch = arch_walk(silo)
+    assert silo.names(arch["feet"]) == ["left_foot", "right_foot"]
+    assert silo.names(arch["foot_bases"]) == ["base_left_0", "base_right_0"]
+    position = silo.position
+    expected = [lower_side_angle(position("base_left_0"), position("left_foot"), position("m1")),
+                lower_side_angle(position("m4"), position("right_foot"), position("base_right_0"))]
+    assert_angles(arch["foot_phi"], expected)
+    # by construction: the link rim -> foot rises at 60 degrees, foot -> m1 at 70
+    assert_angles(arch["foot_phi"], [180.0 + 70.0 - 60.0] * 2)
+
+
+def arch_with_a_foot_in_a_pocket():
+    """The left foot sits in the pocket between the rim grain and the next
+    base grain (touching both); the right foot stands on the rim grain."""
+    silo = Silo()
+    left_foot = silo.add("left_foot", apex(silo.position("base_left_1"), silo.rim_left))
+    m1 = silo.add("m1", step(left_foot, 50.0))
+    m2 = silo.add("m2", step(m1, 20.0))
+    m3 = silo.add("m3", step(m2, -20.0))
+    right_foot = step(silo.rim_right, 120.0)
+    silo.add("m4", apex(m3, right_foot))
+    silo.add("right_foot", right_foot)
+    return silo
+
+
+@pytest.mark.parametrize("mirror", [False, True], ids=["as_built", "mirrored"])
+def test_a_foot_in_a_pocket_takes_the_base_grain_on_the_orifice_side(arch_walk, mirror):
+    silo = arch_with_a_foot_in_a_pocket()
+    assert silo.touching("left_foot", "base_left_0") and silo.touching("left_foot", "base_left_1")
+    position = silo.position
+    inner = lower_side_angle(position("base_left_0"), position("left_foot"), position("m1"))
+    outer = lower_side_angle(position("base_left_1"), position("left_foot"), position("m1"))
+    assert inner == pytest.approx(180.0 - 60.0 + 50.0 - 60.0, abs=ANGLE_TOLERANCE)   # 110
+    assert outer == pytest.approx(inner + 60.0, abs=ANGLE_TOLERANCE)
+    right = lower_side_angle(position("m4"), position("right_foot"), position("base_right_0"))
+    feet, bases, phi = ["left_foot", "right_foot"], ["base_left_0", "base_right_0"], [inner, right]
+    if mirror:
+        silo = silo.mirrored()
+        feet, bases, phi = feet[::-1], bases[::-1], phi[::-1]   # names stay with their grains
+
+    arch = arch_walk(silo)
+    assert arch["status"] == "found" and arch["eta"] == 4
+    assert silo.names(arch["feet"]) == feet
+    assert silo.names(arch["foot_bases"]) == bases
+    assert_angles(arch["foot_phi"], phi)
+
+
+def test_no_feet_without_an_arch(arch_walk):
+    """Feet are printed (and recorded) only for a found arch."""
+    silo = Silo()
+    silo.add("alone_on_left_rim", step(silo.rim_left, 60.0))
+    arch = arch_walk(silo)
+    assert arch["status"] == "no_start"
+    assert arch["feet"] == [] and arch["foot_phi"] == []
 
 
 def test_arch_with_defect(arch_walk):

@@ -184,6 +184,24 @@ def check_records(workdir, time=0.001, avalanche=0):
         # no tangential spring: only the rounding of "total minus normal part"
         assert arches["ft"][row] < 1e-12
 
+    # the feet (arch_walk.h rule 8): the walk's first and last grains, each
+    # with its one base grain (left 1, right 5) as the missing neighbour
+    feet = read_table(workdir / "feet.txt")
+    left_foot, right_foot = members[0] - 1, members[-1] + 1
+    assert list(feet["id"]) == [left_foot, right_foot]
+    assert list(feet["order"]) == [0, len(members) + 1]
+    assert list(feet["base"]) == [1, 5]
+    expected_foot_phi = [lower_side_phi(positions[1], positions[left_foot], positions[members[0]]),
+                         lower_side_phi(positions[members[-1]], positions[right_foot], positions[5])]
+    np.testing.assert_allclose(feet["phi"], expected_foot_phi, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(feet["x"], [positions[f][0] for f in (left_foot, right_foot)],
+                               rtol=0, atol=1e-13)
+    np.testing.assert_allclose(feet["z"], [positions[f][1] for f in (left_foot, right_foot)],
+                               rtol=0, atol=1e-13)
+    for row, foot in enumerate((left_foot, right_foot)):
+        own = [fn for a, b, _, _, fn in contacts if foot in (a, b)]
+        assert feet["fn"][row] == pytest.approx(np.mean(own), rel=1e-6)
+
     table = read_table(workdir / "contacts.txt")
     assert [(int(a), int(b)) for a, b in zip(table["id1"], table["id2"])] == \
            [(a, b) for a, b, *_ in contacts]
@@ -208,7 +226,7 @@ def test_frozen_arch_with_a_defect_is_found_exactly(run, tmp_path):
 def test_frozen_arch_same_records_on_two_ranks(run, tmp_path):
     """The processor boundary x = 0 cuts the arch between members 2 and 3."""
     run(clog_deck(processors="processors 2 1 1"), nprocs=2)
-    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+    for name in ("clogs.txt", "arches.txt", "feet.txt", "contacts.txt"):
         assert (tmp_path / name).exists()
     check_records(tmp_path)
 
@@ -327,7 +345,7 @@ def test_a_restarted_run_finds_the_same_clog_at_the_same_time(run, tmp_path, pie
         if restart_file:
             assert "Resetting global state of Fix clog Style clog" in outputs[-1]
     assert f"clog 1 at t = {clog_step * DT:g} s (step {clog_step})" in outputs[-1]
-    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+    for name in ("clogs.txt", "arches.txt", "feet.txt", "contacts.txt"):
         assert (tmp_path / "pieces" / name).read_text() == (tmp_path / "whole" / name).read_text(), name
 
     since_moved = {step: values[-1] for step, values in thermo_rows(whole, 7).items()}
@@ -370,7 +388,7 @@ def test_an_arch_broken_on_the_restart_step_re_enters_after_the_restart(run, tmp
     _, members, _ = expected_records()
     # the arch's grains were moved up into the injection region (z > 0.06)
     assert members and all(moved[m][1] > 0.06 for m in members)
-    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+    for name in ("clogs.txt", "arches.txt", "feet.txt", "contacts.txt"):
         assert (tmp_path / "pieces" / name).read_text() == (tmp_path / "whole" / name).read_text(), name
     assert read_table(tmp_path / "whole" / "clogs.txt")["clog"].tolist() == [1, 2]
 
@@ -389,7 +407,7 @@ def test_a_run_resumed_from_an_older_restart_records_each_clog_once(run, tmp_pat
     assert read_table(tmp_path / "pieces" / "clogs.txt")["clog"].tolist() == [1]
     resumed = run(faller_deck(restart_file="state0.restart", max_chunks=10), subdir="pieces")
     assert "clog 1 at t = 0.0057 s (step 570)" in resumed
-    for name in ("clogs.txt", "arches.txt", "contacts.txt"):
+    for name in ("clogs.txt", "arches.txt", "feet.txt", "contacts.txt"):
         rows = len((whole / name).read_text().splitlines()) - 1
         assert f"fix clog: removed {rows} line(s) of clogs after clog 0 from '{name}'" in resumed, name
         assert (tmp_path / "pieces" / name).read_text() == (whole / name).read_text(), name
@@ -419,7 +437,7 @@ FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom
     ("action stop", "action break arches 1.5", "'arches' expects an integer, got '1.5'"),
     ("reinject reinject", "reinject gravity", "'reinject' names no fix reinject: 'gravity'"),
     ("action stop", "action stop directory /nonexistent/dir",
-     "cannot write clogs.txt, arches.txt, contacts.txt in directory '/nonexistent/dir'"),
+     "cannot write clogs.txt, arches.txt, feet.txt, contacts.txt in directory '/nonexistent/dir'"),
     ("action stop", "action stop contacts nothing", "'contacts' names no compute pair/gran/local"),
 ])
 def test_bad_input_is_a_clear_error(run, old, new, message):

@@ -42,6 +42,19 @@ REQUIRED_COLUMNS = {
     "arches.txt": ("clog", "order", "id", "x", "y", "z", "phi", "fn", "ft"),
     "contacts.txt": ("clog", "id1", "id2", "x", "z", "fn", "ft", "arch"),
 }
+# feet.txt (fix clog since its feet were recorded) has the columns of
+# arches.txt and `base`; older records have none.
+FEET_COLUMNS = REQUIRED_COLUMNS["arches.txt"] + ("base",)
+
+# Which grains make the arch (doc/silo2d.md, "Arch size: which grains
+# count"): "members", the walk's grains between its two feet, as the
+# paper's sentence "the particles in contact with the bottom of the silo
+# are not considered to be members" reads when the fixed bottom grains are
+# "the bottom"; "feet", the members and the two feet, as it reads when
+# "the bottom" is the floor beside the outlet grains and the feet, which
+# rest on the outlet grains, belong to the arch.
+READINGS = ("members", "feet")
+DEFAULT_READING = "members"
 
 
 # ---------------------------------------------------------------- statistics
@@ -132,6 +145,76 @@ def mobilized_friction(fn, ft, mu):
     return ft[keep] / (mu * fn[keep])
 
 
+def mean_t_ci(values, level=0.95):
+    """Mean and the half width of its Student-t interval (nan for n < 2)."""
+    values = np.asarray(values, dtype=float)
+    n = values.size
+    if n < 2:
+        return (float(values.mean()) if n else np.nan), np.nan
+    half = stats.t.ppf(0.5 + level / 2, n - 1) * values.std(ddof=1) / np.sqrt(n)
+    return float(values.mean()), float(half)
+
+
+def wilson_interval(successes, n, level=0.95):
+    """A proportion and its Wilson score interval: (p, low, high)."""
+    if n == 0:
+        return np.nan, np.nan, np.nan
+    z = stats.norm.ppf(0.5 + level / 2)
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return p, centre - half, centre + half
+
+
+def bootstrap_over_clogs(groups, statistic, rng, resamples=2000, level=0.95):
+    """Percentile interval of statistic(list of groups), resampling whole
+    clogs: the grains and contacts of one clog are not independent."""
+    n = len(groups)
+    if n == 0:
+        return np.nan, np.nan
+    values = np.array([statistic([groups[k] for k in rng.integers(0, n, n)])
+                       for _ in range(resamples)])
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return np.nan, np.nan
+    tail = 100 * (1 - level) / 2
+    return float(np.percentile(values, tail)), float(np.percentile(values, 100 - tail))
+
+
+def force_sums(arch_fn, bulk_fn):
+    """What a clog contributes to <f_n,a>/<f_n,b>: the sums and counts of
+    its arch grains' and its bulk contacts' normal forces."""
+    return {"arch_sum": float(np.sum(arch_fn)), "arch_n": int(np.size(arch_fn)),
+            "bulk_sum": float(np.sum(bulk_fn)), "bulk_n": int(np.size(bulk_fn))}
+
+
+def force_ratio(groups):
+    """<f_n,a>/<f_n,b> over the clogs of `groups` (force_sums of each),
+    each mean pooled over the clogs; nan if either has no sample."""
+    total = {key: sum(g[key] for g in groups) for key in ("arch_sum", "arch_n", "bulk_sum", "bulk_n")}
+    if total["arch_n"] == 0 or total["bulk_n"] == 0 or total["bulk_sum"] == 0:
+        return np.nan
+    return (total["arch_sum"] / total["arch_n"]) / (total["bulk_sum"] / total["bulk_n"])
+
+
+def most_frequent(values):
+    """The most frequent integer (the smallest one on a tie)."""
+    values = np.asarray(values, dtype=int)
+    counts = np.bincount(values - values.min())
+    return int(np.argmax(counts) + values.min())
+
+
+def exponential_tail_rate(eta, start):
+    """Decay rate lambda of P(eta) ~ exp(-lambda eta) for eta >= start, by
+    maximum likelihood for a geometric law of eta - start (mean excess m:
+    lambda = ln(1 + 1/m)); nan with fewer than two values in the tail."""
+    tail = np.asarray(eta, dtype=float)
+    tail = tail[tail >= start] - start
+    if tail.size < 2 or tail.mean() == 0:
+        return np.nan
+    return float(np.log1p(1.0 / tail.mean()))
+
+
 # ---------------------------------------------------------------- selections
 
 def region_of(x, d, centre_max=CENTRE_MAX_D, wall_min=WALL_MIN_D):
@@ -181,6 +264,57 @@ def read_records(record_dir):
             raise ValueError(f"{record_dir / name}: missing columns {missing}")
         tables[name.split(".")[0]] = table
     return tables
+
+
+def read_feet(record_dir):
+    """feet.txt as a dict of arrays, or None when the records have none."""
+    path = Path(record_dir) / "feet.txt"
+    if not path.exists():
+        return None
+    table = read_table(path)
+    missing = [c for c in FEET_COLUMNS if c not in table]
+    if missing:
+        raise ValueError(f"{path}: missing columns {missing}")
+    return table
+
+
+def require_feet(feet):
+    if feet is None:
+        raise ValueError("the 'feet' reading needs feet.txt, which these records lack "
+                         "(written by fix clog since its feet were recorded)")
+
+
+def arch_grains(arches, feet, reading):
+    """The arch grains under `reading` (READINGS): the rows of arches.txt,
+    with those of feet.txt for "feet", sorted by clog and walk order."""
+    if reading not in READINGS:
+        raise ValueError(f"reading must be one of {READINGS}, not {reading!r}")
+    if reading == "members":
+        return arches
+    require_feet(feet)
+    columns = REQUIRED_COLUMNS["arches.txt"]
+    merged = {c: np.concatenate([np.atleast_1d(arches[c]), np.atleast_1d(feet[c])]) for c in columns}
+    order = np.lexsort((merged["order"], merged["clog"]))
+    return {c: values[order] for c, values in merged.items()}
+
+
+def arch_sizes(clogs, feet, reading):
+    """eta of every clog with an arch (status 1), in clog order, under
+    `reading`; with "feet", each such clog must have its two feet."""
+    found = np.atleast_1d(clogs["status"]) == 1
+    eta = np.atleast_1d(clogs["eta"])[found]
+    if reading not in READINGS:
+        raise ValueError(f"reading must be one of {READINGS}, not {reading!r}")
+    if reading == "members":
+        return eta
+    require_feet(feet)
+    counts = {clog: 0 for clog in np.atleast_1d(clogs["clog"])[found]}
+    for clog in np.atleast_1d(feet["clog"]):
+        counts[clog] = counts.get(clog, 0) + 1
+    wrong = [int(c) for c, n in counts.items() if n != 2]
+    if wrong:
+        raise ValueError(f"feet.txt: clogs {wrong[:5]} do not have exactly two feet")
+    return eta + 2
 
 
 def read_silo(path):
@@ -306,6 +440,9 @@ def parse_args(argv):
     parser.add_argument("--R", type=float, help="outlet size in d; default 3")
     parser.add_argument("--half-width", dest="half_width", type=float, help="silo half width (m); default 16 d")
     parser.add_argument("--phi-bin", dest="phi_bin", type=float, default=10.0, help="phi bin width (deg)")
+    parser.add_argument("--reading", choices=READINGS, default=DEFAULT_READING,
+                        help="which grains make the arch: the walk's members between its feet, or "
+                             f"those and the two feet (doc/silo2d.md; default {DEFAULT_READING})")
     parser.add_argument("--bulk", nargs=2, type=float, metavar=("HMIN", "HMAX"),
                         default=(BULK_H_MIN_D, BULK_H_MAX_D),
                         help="bulk window HMIN < h/d < HMAX (default: the paper's 27 48; "
@@ -336,10 +473,16 @@ def main(argv=None):
     out.mkdir(parents=True, exist_ok=True)
     print(f"silo2d: reading records in {args.record_dir}", flush=True)
     tables = read_records(args.record_dir)
-    clogs, arches, contacts = tables["clogs"], tables["arches"], tables["contacts"]
-    eta = clogs["eta"][clogs["status"] == 1]
+    clogs, contacts = tables["clogs"], tables["contacts"]
+    feet = read_feet(args.record_dir)
+    try:
+        arches = arch_grains(tables["arches"], feet, args.reading)
+        eta = arch_sizes(clogs, feet, args.reading)
+    except ValueError as error:
+        raise SystemExit(f"error: {error}")
     print(f"silo2d: {len(clogs['clog'])} clogs, {eta.size} with an arch, "
-          f"{arches['id'].size} arch grains, {contacts['fn'].size} contacts", flush=True)
+          f"{arches['id'].size} arch grains ({args.reading} reading), "
+          f"{contacts['fn'].size} contacts", flush=True)
     h_min, h_max = args.bulk
     bulk = bulk_mask(contacts["x"], contacts["z"], geo["d"], h_min, h_max)
     if not bulk.any():

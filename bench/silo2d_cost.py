@@ -32,7 +32,6 @@ Writes doc/accuracy_cost_silo2d.md and bench/results/silo2d_cost.txt.
 """
 
 import argparse
-import math
 import sys
 from pathlib import Path
 
@@ -44,14 +43,15 @@ import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.lammps_io import read_table  # noqa: E402
+from analysis import silo2d  # noqa: E402
 from analysis.silo2d import bulk_mask  # noqa: E402
+from analysis.silo2d_scan import PHI_BIN, phi_peak  # noqa: E402
 
 DECK = benchlib.ROOT / "inputs" / "silo2d" / "in.silo2d"
 INPUTS = benchlib.ROOT / "inputs"
 D = 1.0 / 32
 T_CONTACT = 2.4458e-4           # contact time of the deck's normal contact (s)
 BULK_WINDOW = (8.0, 14.0)       # h/d, the small silo's bulk
-PHI_BIN = 10.0                  # degrees
 
 
 def deck(variables):
@@ -59,40 +59,6 @@ def deck(variables):
     lines = [f"variable {name} index {value}" for name, value in variables.items()]
     lines += [f"variable inputs index {INPUTS}", f"include {DECK}"]
     return "\n".join(lines) + "\n"
-
-
-def mean_ci(values):
-    values = np.asarray(values, dtype=float)
-    n = values.size
-    if n < 2:
-        return float(values.mean()) if n else math.nan, math.nan
-    half = stats.t.ppf(0.975, n - 1) * values.std(ddof=1) / math.sqrt(n)
-    return float(values.mean()), float(half)
-
-
-def bootstrap_ci(groups, statistic, rng, resamples=2000):
-    """95 % percentile interval of statistic(list of groups), resampling
-    whole clogs (the grains and contacts of one clog are not independent)."""
-    values = []
-    n = len(groups)
-    for _ in range(resamples):
-        pick = rng.integers(0, n, n)
-        values.append(statistic([groups[k] for k in pick]))
-    values = np.asarray(values)
-    values = values[np.isfinite(values)]
-    return float(np.percentile(values, 2.5)), float(np.percentile(values, 97.5))
-
-
-def phi_peak(phi):
-    counts, edges = np.histogram(phi, bins=np.arange(0.0, 360.0 + PHI_BIN, PHI_BIN))
-    k = int(np.argmax(counts))
-    return 0.5 * (edges[k] + edges[k + 1])
-
-
-def force_ratio(clog_groups):
-    arch = np.concatenate([g["arch_fn"] for g in clog_groups])
-    bulk = np.concatenate([g["bulk_fn"] for g in clog_groups])
-    return arch.mean() / bulk.mean() if arch.size and bulk.size else math.nan
 
 
 def metrics(run_dir, simulated_time, rng):
@@ -103,26 +69,26 @@ def metrics(run_dir, simulated_time, rng):
     eta = clogs["eta"][clogs["status"] == 1]
     phi = arches["phi"]
     bulk = bulk_mask(contacts["x"], contacts["z"], D, *BULK_WINDOW)
-    groups = [{"phi": phi[arches["clog"] == c], "arch_fn": arches["fn"][arches["clog"] == c],
-               "bulk_fn": contacts["fn"][bulk & (contacts["clog"] == c)]} for c in found]
-    defects = np.mean(phi > 180.0)
-    # Wilson interval of a proportion (counting grains: a lower bound on the width)
-    z = 1.96
-    n = phi.size
-    centre = (defects + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(defects * (1 - defects) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    groups = []
+    for c in found:
+        group = silo2d.force_sums(arches["fn"][arches["clog"] == c], contacts["fn"][bulk & (contacts["clog"] == c)])
+        group["phi"] = phi[arches["clog"] == c]
+        groups.append(group)
+    # a proportion of grains: a lower bound on the width
+    defects = silo2d.wilson_interval(int(np.sum(phi > 180.0)), phi.size)
     # arches per simulated second: Poisson count, exact (Garwood) interval
     count = found.size
     rate_lo = stats.chi2.ppf(0.025, 2 * count) / 2 / simulated_time if count else 0.0
     rate_hi = stats.chi2.ppf(0.975, 2 * count + 2) / 2 / simulated_time
     return {
         "arches": count, "clogs": clogs["clog"].size,
-        "eta": mean_ci(eta),
+        "eta": silo2d.mean_t_ci(eta),
         "phi_peak": phi_peak(phi),
-        "phi_peak_ci": bootstrap_ci(groups, lambda g: phi_peak(np.concatenate([x["phi"] for x in g])), rng),
-        "defects": (defects, centre - half, centre + half),
-        "force_ratio": force_ratio(groups),
-        "force_ratio_ci": bootstrap_ci(groups, force_ratio, rng),
+        "phi_peak_ci": silo2d.bootstrap_over_clogs(
+            groups, lambda g: phi_peak(np.concatenate([x["phi"] for x in g])), rng),
+        "defects": defects,
+        "force_ratio": silo2d.force_ratio(groups),
+        "force_ratio_ci": silo2d.bootstrap_over_clogs(groups, silo2d.force_ratio, rng),
         "rate": (count / simulated_time, rate_lo, rate_hi),
     }
 

@@ -199,7 +199,7 @@ def test_cli_end_to_end(tmp_path):
                             cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "silo2d: reading records" in result.stdout
-    assert "3 clogs, 1 with an arch, 3 arch grains, 6 contacts" in result.stdout
+    assert "3 clogs, 1 with an arch, 3 arch grains (members reading), 6 contacts" in result.stdout
     # bulk: 100 and 300 N -> 200 N = 20 m g; arch grains 300, 400, 500 N -> 40 m g
     assert "<f_n,b> = 200 N over 2 bulk contacts" in result.stdout
     table = (out / "table1.md").read_text()
@@ -223,3 +223,110 @@ def test_cli_options_override_silo_file(tmp_path):
     table = (out / "table1.md").read_text()
     assert "mu = 0.8" in table
     assert "| <fn_b> | 10.000 |" in table and "21 ± 2" in table
+
+
+# ------------------------------------------------------------------ arch readings
+
+def write_feet(directory):
+    """The two feet of clog 1 (orders 0 and eta + 1 = 4), resting on base
+    grains 1 and 5: left foot phi 100, fn 200 N; right foot phi 250, fn 600 N."""
+    write_table(directory / "feet.txt", "clog order id x y z phi fn ft base",
+                [(1, 0, 10, -2.0, 0.0, 0.5, 100.0, 200.0, 5.0, 1),
+                 (1, 4, 14, 2.0, 0.0, 0.5, 250.0, 600.0, 15.0, 5)])
+
+
+def test_eta_and_arch_grains_under_each_reading(tmp_path):
+    """One arch of 3 members (clog 1), a time-out (clog 2), no arch (3):
+    members -> eta [3], grains 11 12 13; feet -> eta [5], grains 10..14
+    in walk order, with the feet's angles and forces."""
+    write_records(tmp_path)
+    write_feet(tmp_path)
+    tables = silo2d.read_records(tmp_path)
+    feet = silo2d.read_feet(tmp_path)
+    clogs, arches = tables["clogs"], tables["arches"]
+    assert silo2d.arch_sizes(clogs, feet, "members").tolist() == [3]
+    assert silo2d.arch_sizes(clogs, feet, "feet").tolist() == [5]
+    members = silo2d.arch_grains(arches, feet, "members")
+    assert members["id"].tolist() == [11, 12, 13]
+    grains = silo2d.arch_grains(arches, feet, "feet")
+    assert grains["id"].tolist() == [10, 11, 12, 13, 14]
+    assert grains["order"].tolist() == [0, 1, 2, 3, 4]
+    assert grains["phi"].tolist() == [100.0, 150.0, 200.0, 150.0, 250.0]
+    # <f_n,a>: (300 + 400 + 500) / 3 = 400 N -> (200 + 300 + 400 + 500 + 600) / 5 = 400 N;
+    # defects (phi > 180): 1 of 3 -> 2 of 5
+    assert grains["fn"].mean() == pytest.approx(400.0)
+    assert np.sum(grains["phi"] > 180) == 2
+
+
+def test_feet_reading_needs_two_feet_per_arch(tmp_path):
+    write_records(tmp_path)
+    assert silo2d.read_feet(tmp_path) is None
+    with pytest.raises(ValueError, match="needs feet.txt"):
+        silo2d.arch_sizes(silo2d.read_records(tmp_path)["clogs"], None, "feet")
+    write_table(tmp_path / "feet.txt", "clog order id x y z phi fn ft base",
+                [(1, 0, 10, -2.0, 0.0, 0.5, 100.0, 200.0, 5.0, 1)])
+    with pytest.raises(ValueError, match=r"clogs \[1\] do not have exactly two feet"):
+        silo2d.arch_sizes(silo2d.read_records(tmp_path)["clogs"], silo2d.read_feet(tmp_path), "feet")
+    with pytest.raises(ValueError, match="reading must be one of"):
+        silo2d.arch_sizes(silo2d.read_records(tmp_path)["clogs"], None, "bottom")
+
+
+def test_cli_feet_reading(tmp_path):
+    write_records(tmp_path)
+    write_feet(tmp_path)
+    out = tmp_path / "out"
+    result = subprocess.run([sys.executable, "-m", "analysis.silo2d", str(tmp_path), "--out", str(out),
+                             "--reading", "feet"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "5 arch grains (feet reading)" in result.stdout
+    # arch grains 200..600 N: mean 400 N = 40 m g
+    assert "| <fn_a> | 40.000 |" in (out / "table1.md").read_text()
+    (tmp_path / "feet.txt").unlink()
+    result = subprocess.run([sys.executable, "-m", "analysis.silo2d", str(tmp_path), "--out", str(out),
+                             "--reading", "feet"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode != 0 and "needs feet.txt" in result.stderr
+
+
+# ------------------------------------------------------------------ statistics of a scan
+
+def test_mean_t_ci_by_hand():
+    # 1, 2, 3: mean 2, s = 1, t(0.975, 2) = 4.302653 -> half 4.302653 / sqrt(3)
+    mean, half = silo2d.mean_t_ci([1.0, 2.0, 3.0])
+    assert mean == 2.0 and half == pytest.approx(4.302653 / math.sqrt(3), rel=1e-6)
+    assert math.isnan(silo2d.mean_t_ci([5.0])[1])
+
+
+def test_wilson_interval_by_hand():
+    # p = 0.2, n = 50, z = 1.959964: centre (0.2 + z^2/100) / (1 + z^2/50),
+    # half z sqrt(0.2*0.8/50 + z^2/10000) / (1 + z^2/50)
+    z = 1.959964
+    centre = (0.2 + z * z / 100) / (1 + z * z / 50)
+    half = z * math.sqrt(0.2 * 0.8 / 50 + z * z / 10000) / (1 + z * z / 50)
+    p, low, high = silo2d.wilson_interval(10, 50)
+    assert p == 0.2
+    assert (low, high) == pytest.approx((centre - half, centre + half), rel=1e-6)
+
+
+def test_force_ratio_pools_the_clogs():
+    groups = [silo2d.force_sums([30.0, 50.0], [10.0]), silo2d.force_sums([40.0], [20.0, 30.0])]
+    # arch mean (30 + 50 + 40) / 3 = 40, bulk mean (10 + 20 + 30) / 3 = 20
+    assert silo2d.force_ratio(groups) == pytest.approx(2.0)
+    assert math.isnan(silo2d.force_ratio([silo2d.force_sums([30.0], [])]))
+
+
+def test_bootstrap_over_clogs_of_identical_clogs_has_no_width():
+    groups = [silo2d.force_sums([3.0], [2.0])] * 5
+    low, high = silo2d.bootstrap_over_clogs(groups, silo2d.force_ratio, np.random.default_rng(1))
+    assert low == high == pytest.approx(1.5)
+
+
+def test_most_frequent_and_exponential_tail_rate():
+    assert silo2d.most_frequent([3, 5, 5, 4, 3]) == 3      # tie: the smaller
+    assert silo2d.most_frequent([4, 5, 5, 6]) == 5
+    # excess over 5 of [5, 6, 7, 8]: mean 1.5 -> lambda = ln(1 + 1/1.5) = ln(5/3)
+    assert silo2d.exponential_tail_rate([2, 3, 5, 6, 7, 8], 5) == pytest.approx(math.log(5 / 3))
+    # a large geometric sample of rate 0.4 gives back 0.4 within its spread
+    rng = np.random.default_rng(7)
+    sample = 5 + rng.geometric(1 - math.exp(-0.4), 20000) - 1
+    assert silo2d.exponential_tail_rate(sample, 5) == pytest.approx(0.4, abs=0.02)
+    assert math.isnan(silo2d.exponential_tail_rate([1, 2, 6], 5))

@@ -132,3 +132,36 @@ def test_picture_force_segments_join_known_grains():
     # contact 1-9: grain 9 unknown, left out; clog 2 not asked for
     assert force_segments(contacts, 1, positions) == [(0.0, 0.0, 1.0, 0.0, 5.0), (1.0, 0.0, 1.0, 1.0, 7.0)]
     assert list(window_mask(np.array([-2.0, 0.5, 3.0]), np.array([1.0, 4.0, 1.0]), 2.0, 3.0)) == [True, False, False]
+
+
+def test_a_clog_the_deck_calls_at_rest_stays_at_rest(tmp_path):
+    """The silo the deck declares clogged (Ec/Ep < 1e-4 after 0.2 s without
+    an exit) is run on for 1 s (1e5 steps): no grain leaves, the arch and
+    its feet stay where they were recorded (measured: 3e-6 d), and no grain
+    of the silo moves by a tenth of a diameter (measured: 0.02 d at most),
+    so the arch recorded is the one that holds the silo, not a passing one."""
+    deck = f"""
+variable quick index 1
+variable stop_at_first index 1
+variable inputs index {ROOT / 'inputs'}
+include {ROOT / 'inputs' / 'silo2d' / 'in.silo2d'}
+variable out_at_clog equal f_reinject[1]
+print "grains out at the clog: ${{out_at_clog}}"
+write_dump all custom at_clog.dump id x z
+run 100000
+variable out_after equal f_reinject[1]
+print "grains out 1 s later: ${{out_after}}"
+write_dump all custom after.dump id x z
+"""
+    output = run_liggghts(deck, tmp_path, timeout=900)
+    outs = [line.split(":")[1].strip() for line in output.splitlines() if line.startswith("grains out")]
+    assert len(outs) == 2 and outs[0] == outs[1]
+    from analysis.lammps_io import read_dump
+    before, after = (read_dump(tmp_path / name)[-1][1] for name in ("at_clog.dump", "after.dump"))
+    start = {int(i): (x, z) for i, x, z in zip(before["id"], before["x"], before["z"])}
+    moved = {int(i): math.hypot(x - start[int(i)][0], z - start[int(i)][1]) / D
+             for i, x, z in zip(after["id"], after["x"], after["z"])}
+    held = list(read_table(tmp_path / "arches.txt")["id"]) + list(read_table(tmp_path / "feet.txt")["id"])
+    assert len(held) >= 3
+    assert max(moved[int(i)] for i in held) < 1e-3
+    assert max(moved.values()) < 0.1

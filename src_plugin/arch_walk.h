@@ -111,7 +111,11 @@
       that gives the smallest angle (for a foot in the pocket between two
       base grains, the one nearer the orifice). A foot that is the walk's
       start and touches both bases cannot occur with members between the
-      feet (rule 5 ends the walk at once).
+      feet (rule 5 ends the walk at once). A foot is also told whether it
+      touches the floor: a base grain of its side other than the outlet
+      grain of that side (the base grain nearest the orifice centre), as a
+      foot in the pocket beside the outlet grain does and one resting on
+      the outlet grain alone does not.
 
    eta is the number of members.
 ------------------------------------------------------------------------- */
@@ -171,6 +175,7 @@ struct Foot {
   std::size_t index;        // into the grain array
   std::size_t base_index;   // the base grain that serves as its neighbour (rule 8)
   double phi_degrees;       // rule 8 of the header comment
+  bool on_floor;            // touches a base grain of its side other than the outlet grain
 };
 
 struct Arch {
@@ -342,12 +347,29 @@ inline std::size_t first_member_position(const std::vector<Grain> &grains,
 // Rule 8: the foot `foot` of side `side`, whose neighbour in the arch is
 // `member`. The left foot precedes its member in the walk, the right foot
 // follows it; the base grain takes the place of the other neighbour.
-inline Foot foot_of(const std::vector<Grain> &grains, const Neighbours &neighbours,
-                    std::size_t foot, std::size_t member, Base side)
+// The outlet grain of a side: its base grain nearest the orifice centre
+// (ties to the lower id); `none` when the side has no base grain.
+inline std::size_t outlet_grain(const std::vector<Grain> &grains, Base side, double orifice_centre)
 {
-  Foot result = {foot, none, 0.0};
+  std::size_t outlet = none;
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    if (grains[i].base != side) continue;
+    const double distance = std::fabs(grains[i].horizontal - orifice_centre);
+    const double best = outlet == none ? 0.0 : std::fabs(grains[outlet].horizontal - orifice_centre);
+    if (outlet == none || distance < best || (distance == best && grains[i].id < grains[outlet].id))
+      outlet = i;
+  }
+  return outlet;
+}
+
+inline Foot foot_of(const std::vector<Grain> &grains, const Neighbours &neighbours,
+                    std::size_t foot, std::size_t member, Base side, double orifice_centre)
+{
+  Foot result = {foot, none, 0.0, false};
+  const std::size_t outlet = outlet_grain(grains, side, orifice_centre);
   for (std::size_t base : neighbours[foot]) {
     if (grains[base].base != side) continue;
+    if (base != outlet) result.on_floor = true;
     const double phi = side == Base::left
                        ? lower_side_angle(grains[base], grains[foot], grains[member])
                        : lower_side_angle(grains[member], grains[foot], grains[base]);
@@ -398,9 +420,10 @@ inline Arch find_arch(const std::vector<Grain> &grains, const std::vector<Contac
                   + " with no grain off the base between the feet";
     return arch;
   }
-  arch.left_foot = detail::foot_of(grains, neighbours, walk[first - 1], walk[first], Base::left);
+  arch.left_foot = detail::foot_of(grains, neighbours, walk[first - 1], walk[first], Base::left,
+                                   orifice_centre);
   arch.right_foot = detail::foot_of(grains, neighbours, walk[right_foot_position],
-                                    walk[right_foot_position - 1], Base::right);
+                                    walk[right_foot_position - 1], Base::right, orifice_centre);
   return arch;
 }
 

@@ -287,7 +287,7 @@ void FixClog::open_records()
   if (comm->me == 0 && !clogs_file) {
     clogs_file = open_record("clogs.txt", "# clog step time avalanche eta status");
     arches_file = open_record("arches.txt", "# clog order id x y z phi fn ft");
-    feet_file = open_record("feet.txt", "# clog order id x y z phi fn ft base");
+    feet_file = open_record("feet.txt", "# clog order id x y z phi fn ft base floor");
     contacts_file = open_record("contacts.txt", "# clog id1 id2 x z fn ft arch");
     opened = clogs_file && arches_file && feet_file && contacts_file;
   }
@@ -516,6 +516,7 @@ FixClog::Outcome FixClog::identify_arch(const std::vector<GrainRecord> &grains,
       outcome.foot_tags.push_back(static_cast<int>(walk_grains[foot.index].id));
       outcome.foot_base_tags.push_back(static_cast<int>(walk_grains[foot.base_index].id));
       outcome.foot_phi.push_back(foot.phi_degrees);
+      outcome.foot_on_floor.push_back(foot.on_floor ? 1 : 0);
     }
   }
   return outcome;
@@ -597,7 +598,7 @@ void FixClog::write_records(const Outcome &outcome, int avalanche,
   // the left foot before the first member (order 0), the right one after the last
   for (size_t side = 0; side < outcome.foot_tags.size(); ++side) {
     write_grain(feet_file, side == 0 ? 0 : eta + 1, outcome.foot_tags[side], outcome.foot_phi[side]);
-    fprintf(feet_file, " %d\n", outcome.foot_base_tags[side]);
+    fprintf(feet_file, " %d %d\n", outcome.foot_base_tags[side], outcome.foot_on_floor[side]);
   }
   fflush(feet_file);
 

@@ -65,6 +65,7 @@ class FixClog : public Fix {
     std::vector<int> foot_tags;             // left, right (arch_walk.h rule 8); empty without arch
     std::vector<int> foot_base_tags;        // the base grain each foot's angle is taken from
     std::vector<double> foot_phi;           // degrees
+    std::vector<int> foot_on_floor;         // 1: touches a base grain other than the outlet grain
   };
 
   // settings

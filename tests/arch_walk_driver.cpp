@@ -89,6 +89,7 @@ void print_arch(const std::vector<Grain> &grains, const silokit::arch::Arch &arc
     std::printf("foot_bases %ld %ld\n", grains[feet[0].base_index].id,
                 grains[feet[1].base_index].id);
     std::printf("foot_phi %.17g %.17g\n", feet[0].phi_degrees, feet[1].phi_degrees);
+    std::printf("foot_on_floor %d %d\n", feet[0].on_floor ? 1 : 0, feet[1].on_floor ? 1 : 0);
   }
   std::printf("span %.17g\n", silokit::arch::horizontal_span(grains, arch));
 }

@@ -67,6 +67,7 @@ def parse_output(text):
         "feet": [int(word) for word in fields.get("feet", "").split()],
         "foot_bases": [int(word) for word in fields.get("foot_bases", "").split()],
         "foot_phi": [float(word) for word in fields.get("foot_phi", "").split()],
+        "foot_on_floor": [int(word) for word in fields.get("foot_on_floor", "").split()],
     }
 
 
@@ -276,6 +277,8 @@ def test_feet_of_a_regular_arch_rest_on_the_rim(arch_walk):
     assert_angles(arch["foot_phi"], expected)
     # by construction: the link rim -> foot rises at 60 degrees, foot -> m1 at 70
     assert_angles(arch["foot_phi"], [180.0 + 70.0 - 60.0] * 2)
+    # each foot touches its rim (outlet) grain only: not the floor
+    assert arch["foot_on_floor"] == [0, 0]
 
 
 def arch_with_a_foot_in_a_pocket():
@@ -303,15 +306,18 @@ def test_a_foot_in_a_pocket_takes_the_base_grain_on_the_orifice_side(arch_walk, 
     assert outer == pytest.approx(inner + 60.0, abs=ANGLE_TOLERANCE)
     right = lower_side_angle(position("m4"), position("right_foot"), position("base_right_0"))
     feet, bases, phi = ["left_foot", "right_foot"], ["base_left_0", "base_right_0"], [inner, right]
+    on_floor = [1, 0]     # the pocket foot also touches base_left_1, beyond the outlet grain
     if mirror:
         silo = silo.mirrored()
         feet, bases, phi = feet[::-1], bases[::-1], phi[::-1]   # names stay with their grains
+        on_floor = on_floor[::-1]
 
     arch = arch_walk(silo)
     assert arch["status"] == "found" and arch["eta"] == 4
     assert silo.names(arch["feet"]) == feet
     assert silo.names(arch["foot_bases"]) == bases
     assert_angles(arch["foot_phi"], phi)
+    assert arch["foot_on_floor"] == on_floor
 
 
 def test_no_feet_without_an_arch(arch_walk):

@@ -191,6 +191,7 @@ def check_records(workdir, time=0.001, avalanche=0):
     assert list(feet["id"]) == [left_foot, right_foot]
     assert list(feet["order"]) == [0, len(members) + 1]
     assert list(feet["base"]) == [1, 5]
+    assert list(feet["floor"]) == [0, 0]     # each foot rests on its outlet grain alone
     expected_foot_phi = [lower_side_phi(positions[1], positions[left_foot], positions[members[0]]),
                          lower_side_phi(positions[members[-1]], positions[right_foot], positions[5])]
     np.testing.assert_allclose(feet["phi"], expected_foot_phi, rtol=0, atol=1e-9)

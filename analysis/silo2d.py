@@ -43,17 +43,19 @@ REQUIRED_COLUMNS = {
     "contacts.txt": ("clog", "id1", "id2", "x", "z", "fn", "ft", "arch"),
 }
 # feet.txt (fix clog since its feet were recorded) has the columns of
-# arches.txt and `base`; older records have none.
-FEET_COLUMNS = REQUIRED_COLUMNS["arches.txt"] + ("base",)
+# arches.txt, `base` and `floor`; older records have none.
+FEET_COLUMNS = REQUIRED_COLUMNS["arches.txt"] + ("base", "floor")
 
 # Which grains make the arch (doc/silo2d.md, "Arch size: which grains
-# count"): "members", the walk's grains between its two feet, as the
-# paper's sentence "the particles in contact with the bottom of the silo
-# are not considered to be members" reads when the fixed bottom grains are
-# "the bottom"; "feet", the members and the two feet, as it reads when
-# "the bottom" is the floor beside the outlet grains and the feet, which
-# rest on the outlet grains, belong to the arch.
-READINGS = ("members", "feet")
+# count"), three readings of the paper's "the particles in contact with the
+# bottom of the silo are not considered to be members of the bridge":
+# "members": the bottom is every fixed grain under the silo, the outlet
+#   grains included, so the two feet (resting on them) are not arch grains;
+# "outlet": the bottom is the floor beside the two outlet grains, so a foot
+#   resting on its outlet grain alone is an arch grain, one that also
+#   touches the next bottom grain (in the pocket beside it) is not;
+# "feet": both feet are always arch grains.
+READINGS = ("members", "outlet", "feet")
 DEFAULT_READING = "members"
 
 
@@ -284,37 +286,48 @@ def require_feet(feet):
                          "(written by fix clog since its feet were recorded)")
 
 
-def arch_grains(arches, feet, reading):
-    """The arch grains under `reading` (READINGS): the rows of arches.txt,
-    with those of feet.txt for "feet", sorted by clog and walk order."""
+def counted_feet(feet, reading):
+    """Mask of the rows of feet.txt that are arch grains under `reading`."""
     if reading not in READINGS:
         raise ValueError(f"reading must be one of {READINGS}, not {reading!r}")
     if reading == "members":
-        return arches
+        return None
     require_feet(feet)
+    on_floor = np.atleast_1d(feet["floor"]) != 0
+    return ~on_floor if reading == "outlet" else np.ones(on_floor.shape, dtype=bool)
+
+
+def arch_grains(arches, feet, reading):
+    """The arch grains under `reading` (READINGS): the rows of arches.txt,
+    with the counted ones of feet.txt, sorted by clog and walk order."""
+    counted = counted_feet(feet, reading)
+    if counted is None:
+        return arches
     columns = REQUIRED_COLUMNS["arches.txt"]
-    merged = {c: np.concatenate([np.atleast_1d(arches[c]), np.atleast_1d(feet[c])]) for c in columns}
+    merged = {c: np.concatenate([np.atleast_1d(arches[c]), np.atleast_1d(feet[c])[counted]])
+              for c in columns}
     order = np.lexsort((merged["order"], merged["clog"]))
     return {c: values[order] for c, values in merged.items()}
 
 
 def arch_sizes(clogs, feet, reading):
     """eta of every clog with an arch (status 1), in clog order, under
-    `reading`; with "feet", each such clog must have its two feet."""
+    `reading`; with the feet, each such clog must have its two feet."""
     found = np.atleast_1d(clogs["status"]) == 1
     eta = np.atleast_1d(clogs["eta"])[found]
-    if reading not in READINGS:
-        raise ValueError(f"reading must be one of {READINGS}, not {reading!r}")
-    if reading == "members":
+    counted = counted_feet(feet, reading)
+    if counted is None:
         return eta
-    require_feet(feet)
-    counts = {clog: 0 for clog in np.atleast_1d(clogs["clog"])[found]}
-    for clog in np.atleast_1d(feet["clog"]):
-        counts[clog] = counts.get(clog, 0) + 1
-    wrong = [int(c) for c, n in counts.items() if n != 2]
+    found_clogs = np.atleast_1d(clogs["clog"])[found]
+    foot_clogs = np.atleast_1d(feet["clog"])
+    rows = {clog: 0 for clog in found_clogs}
+    for clog in foot_clogs:
+        rows[clog] = rows.get(clog, 0) + 1
+    wrong = [int(c) for c, n in rows.items() if n != 2]
     if wrong:
         raise ValueError(f"feet.txt: clogs {wrong[:5]} do not have exactly two feet")
-    return eta + 2
+    added = np.array([np.sum(counted[foot_clogs == clog]) for clog in found_clogs], dtype=int)
+    return eta + added
 
 
 def read_silo(path):
@@ -441,8 +454,9 @@ def parse_args(argv):
     parser.add_argument("--half-width", dest="half_width", type=float, help="silo half width (m); default 16 d")
     parser.add_argument("--phi-bin", dest="phi_bin", type=float, default=10.0, help="phi bin width (deg)")
     parser.add_argument("--reading", choices=READINGS, default=DEFAULT_READING,
-                        help="which grains make the arch: the walk's members between its feet, or "
-                             f"those and the two feet (doc/silo2d.md; default {DEFAULT_READING})")
+                        help="which grains make the arch: the walk's members between its feet, those and "
+                             "the feet that rest on the outlet grain alone, or those and both feet "
+                             f"(doc/silo2d.md; default {DEFAULT_READING})")
     parser.add_argument("--bulk", nargs=2, type=float, metavar=("HMIN", "HMAX"),
                         default=(BULK_H_MIN_D, BULK_H_MAX_D),
                         help="bulk window HMIN < h/d < HMAX (default: the paper's 27 48; "

@@ -229,10 +229,12 @@ def test_cli_options_override_silo_file(tmp_path):
 
 def write_feet(directory):
     """The two feet of clog 1 (orders 0 and eta + 1 = 4), resting on base
-    grains 1 and 5: left foot phi 100, fn 200 N; right foot phi 250, fn 600 N."""
-    write_table(directory / "feet.txt", "clog order id x y z phi fn ft base",
-                [(1, 0, 10, -2.0, 0.0, 0.5, 100.0, 200.0, 5.0, 1),
-                 (1, 4, 14, 2.0, 0.0, 0.5, 250.0, 600.0, 15.0, 5)])
+    grains 1 and 5: left foot phi 100, fn 200 N, in the pocket beside its
+    outlet grain (on the floor); right foot phi 250, fn 600 N, on its
+    outlet grain alone."""
+    write_table(directory / "feet.txt", "clog order id x y z phi fn ft base floor",
+                [(1, 0, 10, -2.5, 0.0, 0.5, 100.0, 200.0, 5.0, 1, 1),
+                 (1, 4, 14, 1.5, 0.0, 0.5, 250.0, 600.0, 15.0, 5, 0)])
 
 
 def test_eta_and_arch_grains_under_each_reading(tmp_path):
@@ -245,7 +247,10 @@ def test_eta_and_arch_grains_under_each_reading(tmp_path):
     feet = silo2d.read_feet(tmp_path)
     clogs, arches = tables["clogs"], tables["arches"]
     assert silo2d.arch_sizes(clogs, feet, "members").tolist() == [3]
+    assert silo2d.arch_sizes(clogs, feet, "outlet").tolist() == [4]
     assert silo2d.arch_sizes(clogs, feet, "feet").tolist() == [5]
+    outlet = silo2d.arch_grains(arches, feet, "outlet")
+    assert outlet["id"].tolist() == [11, 12, 13, 14]     # the foot on the floor is left out
     members = silo2d.arch_grains(arches, feet, "members")
     assert members["id"].tolist() == [11, 12, 13]
     grains = silo2d.arch_grains(arches, feet, "feet")
@@ -263,8 +268,8 @@ def test_feet_reading_needs_two_feet_per_arch(tmp_path):
     assert silo2d.read_feet(tmp_path) is None
     with pytest.raises(ValueError, match="needs feet.txt"):
         silo2d.arch_sizes(silo2d.read_records(tmp_path)["clogs"], None, "feet")
-    write_table(tmp_path / "feet.txt", "clog order id x y z phi fn ft base",
-                [(1, 0, 10, -2.0, 0.0, 0.5, 100.0, 200.0, 5.0, 1)])
+    write_table(tmp_path / "feet.txt", "clog order id x y z phi fn ft base floor",
+                [(1, 0, 10, -2.0, 0.0, 0.5, 100.0, 200.0, 5.0, 1, 0)])
     with pytest.raises(ValueError, match=r"clogs \[1\] do not have exactly two feet"):
         silo2d.arch_sizes(silo2d.read_records(tmp_path)["clogs"], silo2d.read_feet(tmp_path), "feet")
     with pytest.raises(ValueError, match="reading must be one of"):

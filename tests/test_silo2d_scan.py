@@ -29,6 +29,8 @@ def test_scan_table_of_two_runs(tmp_path):
     """Each run: one arch of 3 members (fn 300, 400, 500 N) with feet
     (200, 600 N), bulk contacts 100 and 300 N, m g = 10 N (write_records).
     members: eta 3, <f_n,a> 40 m g, <f_n,b> 20 m g, ratio 2.0, 1 defect of 3;
+    outlet (the right foot, on its outlet grain alone): eta 4, <f_n,a>
+    (300 + 400 + 500 + 600)/4 = 450 N = 45 m g, ratio 2.25, 2 defects of 4;
     feet: eta 5, <f_n,a> 40 m g, ratio 2.0, 2 defects of 5."""
     runs = []
     for mu in (0.4, 0.2):
@@ -45,14 +47,17 @@ def test_scan_table_of_two_runs(tmp_path):
     assert result.returncode == 0, result.stderr
     lines = [line for line in (out / "scan_table.md").read_text().splitlines() if line.startswith("| 0.")]
     assert [line.split("|")[1:3] for line in lines] == \
-        [[" 0.2 ", " members "], [" 0.2 ", " feet "], [" 0.4 ", " members "], [" 0.4 ", " feet "]]
-    members, feet = lines[2].split("|"), lines[3].split("|")
+        [[f" {mu} ", f" {reading} "] for mu in ("0.2", "0.4") for reading in ("members", "outlet", "feet")]
+    members, outlet, feet = (line.split("|") for line in lines[3:])
     assert members[3].strip() == "1" and members[5].strip().startswith("3 ")
-    assert feet[5].strip().startswith("5 ")
-    assert members[8].strip().startswith("0.333 ") and feet[8].strip().startswith("0.400 ")
+    assert outlet[5].strip().startswith("4 ") and feet[5].strip().startswith("5 ")
+    assert members[8].strip().startswith("0.333 ") and outlet[8].strip().startswith("0.500 ")
+    assert feet[8].strip().startswith("0.400 ")
     assert members[9].strip().startswith("20.0 ") and members[10].strip().startswith("40.0 ")
-    assert members[11].strip().startswith("2.00 ") and feet[11].strip().startswith("2.00 ")
-    assert "20 ± 1, 35 ± 3, 1.75 ± 0.17" in lines[2]
+    assert outlet[10].strip().startswith("45.0 ")
+    assert members[11].strip().startswith("2.00 ") and outlet[11].strip().startswith("2.25 ")
+    assert feet[11].strip().startswith("2.00 ")
+    assert "20 ± 1, 35 ± 3, 1.75 ± 0.17" in lines[3]
     for name in ("eta_pdf", "phi_pdf", "force_vs_phi", "fn_profiles", "fn_pdf", "ft_pdf",
                  "mobilized_friction"):
         png = out / f"scan_{name}.png"

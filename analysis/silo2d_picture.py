@@ -40,7 +40,7 @@ def force_segments(contacts, clog, positions):
     return segments
 
 
-def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=10.0):
+def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=10.0, feet=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -53,10 +53,13 @@ def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=1
     members = arches["id"][arches["clog"] == clog].astype(int)
     order = arches["order"][arches["clog"] == clog].astype(int)
     is_member = np.isin(grains["id"].astype(int), members)
+    foot_ids = feet["id"][feet["clog"] == clog].astype(int) if feet is not None else np.array([], int)
+    is_foot = np.isin(grains["id"].astype(int), foot_ids)
 
     fig, ax = plt.subplots(figsize=(7, 4.8))
     for selection, colour in ((inside & (grains["type"] != FREE_TYPE), "0.25"),
-                              (inside & (grains["type"] == FREE_TYPE) & ~is_member, "0.8"),
+                              (inside & (grains["type"] == FREE_TYPE) & ~is_member & ~is_foot, "0.8"),
+                              (inside & is_foot, "tab:orange"),
                               (inside & is_member, "tab:red")):
         discs = [Circle((xi / d, zi / d), ri / d) for xi, zi, ri in
                  zip(x[selection], z[selection], radius[selection])]
@@ -79,7 +82,8 @@ def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=1
     ax.set_aspect("equal")
     ax.set_xlabel("x/d")
     ax.set_ylabel("h/d")
-    ax.set_title(f"clog {clog}: arch of {members.size} grains (red, walk order); "
+    feet_text = "; its feet orange" if foot_ids.size else ""
+    ax.set_title(f"clog {clog}: arch of {members.size} grains (red, walk order){feet_text}; "
                  "contact normal forces (line width)", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
@@ -103,7 +107,9 @@ def main(argv=None):
         raise SystemExit("error: no clog with an arch in clogs.txt")
     clog = args.clog if args.clog is not None else int(found[-1])
     out = args.out or args.record_dir / "arch.png"
-    draw(args.dump or args.record_dir / "clog_state.dump", arches, contacts, clog, out, args.d)
+    feet_path = args.record_dir / "feet.txt"
+    feet = read_table(feet_path) if feet_path.exists() else None
+    draw(args.dump or args.record_dir / "clog_state.dump", arches, contacts, clog, out, args.d, feet=feet)
     print(f"silo2d_picture: clog {clog} drawn in {out}")
     return 0
 

@@ -344,9 +344,6 @@ inline std::size_t first_member_position(const std::vector<Grain> &grains,
   return position;
 }
 
-// Rule 8: the foot `foot` of side `side`, whose neighbour in the arch is
-// `member`. The left foot precedes its member in the walk, the right foot
-// follows it; the base grain takes the place of the other neighbour.
 // The outlet grain of a side: its base grain nearest the orifice centre
 // (ties to the lower id); `none` when the side has no base grain.
 inline std::size_t outlet_grain(const std::vector<Grain> &grains, Base side, double orifice_centre)
@@ -362,6 +359,9 @@ inline std::size_t outlet_grain(const std::vector<Grain> &grains, Base side, dou
   return outlet;
 }
 
+// Rule 8: the foot `foot` of side `side`, whose neighbour in the arch is
+// `member`. The left foot precedes its member in the walk, the right foot
+// follows it; the base grain takes the place of the other neighbour.
 inline Foot foot_of(const std::vector<Grain> &grains, const Neighbours &neighbours,
                     std::size_t foot, std::size_t member, Base side, double orifice_centre)
 {
@@ -385,7 +385,7 @@ inline Foot foot_of(const std::vector<Grain> &grains, const Neighbours &neighbou
 
 }  // namespace detail
 
-// The clogging arch of the grains, by rules 1-7 of the header comment.
+// The clogging arch of the grains and its feet, by rules 1-8 of the header comment.
 // orifice_centre is the horizontal coordinate of the middle of the orifice.
 inline Arch find_arch(const std::vector<Grain> &grains, const std::vector<Contact> &contacts,
                       double orifice_centre)

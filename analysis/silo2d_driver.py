@@ -25,6 +25,10 @@ arches, CPU seconds and wall seconds of the segment), state<k>.restart
 CLI:
     python3 -m analysis.silo2d_driver --out runs/silo2d --mu 0.2 0.4 0.8 \\
         --arches 200 --dt 2e-5 --segment-time 20 -j 2
+Environment: SILOKIT_LIGGGHTS (the binary, default build/bin/liggghts) and
+SILOKIT_INPUTS (the inputs/ directory, default the repository's): LIGGGHTS
+reads its deck as it runs, so a campaign that must survive edits of the
+repository runs on copies of both.
 Calling it again with the same arguments continues; a larger --arches
 extends a finished run.
 """
@@ -42,8 +46,10 @@ import numpy as np
 from analysis.lammps_io import read_table
 
 ROOT = Path(__file__).resolve().parent.parent
-INPUTS = ROOT / "inputs"
-DECK = INPUTS / "silo2d" / "in.silo2d"
+# LIGGGHTS reads its input file line by line as it runs (and `jump SELF`
+# reads it again): a deck edited while a campaign runs would be read half
+# old, half new. A long campaign should run on a copy (--inputs).
+INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
 BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
 SEGMENTS_HEADER = "# segment last_clog_time clogs arches cpu_s wall_s"
 # fix clog raises its flag only after this many arches: the driver, not the
@@ -112,7 +118,7 @@ def run_segment(directory, segment, variables, segment_time, nprocs):
     logs = directory / "logs"
     logs.mkdir(exist_ok=True)
     save_to = f"state{segment}.restart"
-    command = ["stdbuf", "-oL", str(BINARY), "-in", str(DECK), "-echo", "none",
+    command = ["stdbuf", "-oL", str(BINARY), "-in", str(INPUTS / "silo2d" / "in.silo2d"), "-echo", "none",
                "-log", "none", "-var", "inputs", str(INPUTS)]
     for name, value in variables.items():
         command += ["-var", name, value]

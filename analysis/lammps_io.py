@@ -3,6 +3,7 @@
 thermo table of a run's screen output."""
 
 import itertools
+import lzma
 
 import numpy as np
 
@@ -64,10 +65,12 @@ def dump_steps(path):
 
 def read_table(path):
     """A whitespace-separated table whose last `#` comment line before the
-    data names the columns; returns a dict name -> numpy array."""
+    data names the columns; returns a dict name -> numpy array. A path
+    ending in .xz is read through lzma (the compressed records of doc/data)."""
     names = None
     rows = []
-    with open(path) as handle:
+    opener = lzma.open if str(path).endswith(".xz") else open
+    with opener(path, "rt") as handle:
         for line in handle:
             stripped = line.strip()
             if not stripped:

@@ -239,17 +239,62 @@ def bulk_mask(x, z, d, h_min=BULK_H_MIN_D, h_max=BULK_H_MAX_D,
     return inner & (h > h_min) & (h < h_max)
 
 
+def profile_edges(h, bin_width_d=1.0):
+    """Bins of h/d of width bin_width_d from 0 up to the highest point."""
+    top = max(bin_width_d, np.ceil(h.max() / bin_width_d) * bin_width_d) if h.size else bin_width_d
+    return np.arange(0.0, top + 0.5 * bin_width_d, bin_width_d)
+
+
 def force_profiles(x, z, fn, d, bin_width_d=1.0, centre_max=CENTRE_MAX_D,
                    wall_min=WALL_MIN_D):
     """Mean normal force versus h/d per region: dict region ->
     (centres, mean, sem, count), bins of bin_width_d from h = 0."""
     h = np.asarray(z, dtype=float) / d
-    top = max(bin_width_d, np.ceil(h.max() / bin_width_d) * bin_width_d) if h.size else bin_width_d
-    edges = np.arange(0.0, top + 0.5 * bin_width_d, bin_width_d)
+    edges = profile_edges(h, bin_width_d)
     labels = region_of(x, d, centre_max, wall_min)
     fn = np.asarray(fn, dtype=float)
     return {name: binned_mean(h[labels == name], fn[labels == name], edges)
             for name in ("W", "I", "C")}
+
+
+PROFILE_COLUMNS = ("region", "h_low", "h_high", "n", "mean_fn", "square_deviation_fn")
+REGION_CODES = {"W": 0, "I": 1, "C": 2}
+
+
+def profile_sums(x, z, fn, d, bin_width_d=1.0):
+    """What force_profiles needs, for an archive that keeps the profiles
+    but not every contact: rows (region code, h_low, h_high, n, mean f_n,
+    sum of (f_n - mean)^2) of the non-empty bins, h in units of d (the
+    squared deviations, not the sum of squares, keep the scatter's digits)."""
+    h = np.asarray(z, dtype=float) / d
+    edges = profile_edges(h, bin_width_d)
+    labels = region_of(x, d)
+    fn = np.asarray(fn, dtype=float)
+    rows = []
+    for name, code in REGION_CODES.items():
+        mine = labels == name
+        index = bin_index(h[mine], edges)
+        for k in range(len(edges) - 1):
+            sample = fn[mine][index == k]
+            if sample.size:
+                rows.append((code, edges[k], edges[k + 1], sample.size, sample.mean(),
+                             np.square(sample - sample.mean()).sum()))
+    return rows
+
+
+def profiles_from_sums(table):
+    """force_profiles' dict region -> (centres, mean, sem, count) from the
+    rows of profile_sums (a read profiles.txt)."""
+    result = {}
+    for name, code in REGION_CODES.items():
+        rows = np.atleast_1d(table["region"]) == code
+        low, high = np.atleast_1d(table["h_low"])[rows], np.atleast_1d(table["h_high"])[rows]
+        n = np.atleast_1d(table["n"])[rows]
+        mean = np.atleast_1d(table["mean_fn"])[rows]
+        deviations = np.atleast_1d(table["square_deviation_fn"])[rows]
+        sem = np.where(n > 1, np.sqrt(deviations / np.maximum(n - 1, 1) / n), np.nan)
+        result[name] = (0.5 * (low + high), mean, sem, n.astype(int))
+    return result
 
 
 # ---------------------------------------------------------------- records
@@ -260,7 +305,10 @@ def read_records(record_dir):
     record_dir = Path(record_dir)
     tables = {}
     for name, columns in REQUIRED_COLUMNS.items():
-        table = read_table(record_dir / name)
+        path = record_dir / name
+        if not path.exists() and (record_dir / (name + ".xz")).exists():
+            path = record_dir / (name + ".xz")     # an archive (analysis.silo2d_archive)
+        table = read_table(path)
         missing = [c for c in columns if c not in table]
         if missing:
             raise ValueError(f"{record_dir / name}: missing columns {missing}")

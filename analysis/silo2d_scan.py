@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis import silo2d
+from analysis.lammps_io import read_table
 
 PHI_BIN = 10.0
 RESAMPLES = 2000
@@ -65,8 +66,11 @@ def load_run(record_dir, d_default=1.0 / 32):
     geometry.setdefault("mass", geometry["rho"] * np.pi * geometry["d"] ** 3 / 6)
     contacts = tables["contacts"]
     bulk = silo2d.bulk_mask(contacts["x"], contacts["z"], geometry["d"])
+    # an archive (analysis.silo2d_archive) keeps the profiles as sums
+    profiles = record_dir / "profiles.txt"
     return {"dir": record_dir, "tables": tables, "feet": silo2d.read_feet(record_dir),
-            "geometry": geometry, "bulk": bulk}
+            "geometry": geometry, "bulk": bulk,
+            "profile_sums": read_table(profiles) if profiles.exists() else None}
 
 
 def clog_groups(run, arches):
@@ -240,10 +244,12 @@ def plot_profiles(runs, out):
     for ax, run in zip(axes, runs):
         contacts, geometry = run["tables"]["contacts"], run["geometry"]
         weight = geometry["mass"] * geometry["g"]
-        profiles = silo2d.force_profiles(contacts["x"], contacts["z"], contacts["fn"] / weight,
-                                         geometry["d"])
+        if run["profile_sums"] is not None:
+            profiles = silo2d.profiles_from_sums(run["profile_sums"])
+        else:
+            profiles = silo2d.force_profiles(contacts["x"], contacts["z"], contacts["fn"], geometry["d"])
         for name, (c, mean, sem, _) in profiles.items():
-            ax.errorbar(c, mean, yerr=sem, fmt=".-", label=name)
+            ax.errorbar(c, mean / weight, yerr=sem / weight, fmt=".-", label=name)
         for h in (silo2d.BULK_H_MIN_D, silo2d.BULK_H_MAX_D):
             ax.axvline(h, ls=":", color="k")
         ax.set_title(f"Fig. 4: mu = {geometry['mu']:g}")

@@ -1,14 +1,17 @@
 """analysis.silo2d_scan on hand-made records of two friction coefficients;
 the expected numbers are worked out here by hand."""
 
+import math
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from analysis import silo2d_scan
-from test_silo2d_analysis import write_feet, write_records
+from analysis.lammps_io import read_table
+from test_silo2d_analysis import write_feet, write_records, write_table
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -62,3 +65,63 @@ def test_scan_table_of_two_runs(tmp_path):
                  "mobilized_friction"):
         png = out / f"scan_{name}.png"
         assert png.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+
+
+def test_profile_sums_by_hand():
+    """d = 1: contacts at (x, h) = (0, 0.5) 10 N, (0, 0.7) 30 N (C, bin 0-1),
+    (5, 1.5) 20 N (I, bin 1-2), (13, 0.2) 40 N (W, bin 0-1)."""
+    from analysis import silo2d
+    rows = silo2d.profile_sums([0.0, 0.0, 5.0, 13.0], [0.5, 0.7, 1.5, 0.2], [10.0, 30.0, 20.0, 40.0], 1.0)
+    # (region, h_low, h_high, n, mean, sum of squared deviations): C 10, 30 -> 20, 200
+    assert sorted(rows) == sorted([(0, 0.0, 1.0, 1, 40.0, 0.0), (1, 1.0, 2.0, 1, 20.0, 0.0),
+                                   (2, 0.0, 1.0, 2, 20.0, 200.0)])
+    table = {name: np.array([row[k] for row in rows]) for k, name in enumerate(silo2d.PROFILE_COLUMNS)}
+    profiles = silo2d.profiles_from_sums(table)
+    centres, mean, sem, count = profiles["C"]
+    # C: 10 and 30 N -> mean 20, std (ddof 1) 14.142, sem 10
+    assert centres.tolist() == [0.5] and mean.tolist() == [20.0] and count.tolist() == [2]
+    assert sem[0] == pytest.approx(10.0)
+    assert math.isnan(profiles["W"][2][0])          # one contact: no scatter
+
+
+def test_an_archive_gives_the_scan_of_its_run(tmp_path):
+    """A run of two clogs with contacts inside and outside the bulk window:
+    its archive keeps only the bulk rows (compressed) and the profiles as
+    sums, and the scan table and Fig. 4 data come out the same."""
+    from analysis import silo2d, silo2d_archive
+    run = tmp_path / "run"
+    run.mkdir()
+    write_records(run)
+    write_feet(run)
+    rng = np.random.default_rng(3)
+    rows = []
+    for clog in (1,):
+        for k in range(300):
+            x, h = rng.uniform(-16, 16), rng.uniform(0, 80)
+            rows.append((clog, k, k + 1000, x, h, rng.exponential(200.0), rng.exponential(30.0), 0))
+    contacts = read_table(run / "contacts.txt")
+    old = [tuple(contacts[c][k] for c in ("clog", "id1", "id2", "x", "z", "fn", "ft", "arch"))
+           for k in range(contacts["clog"].size)]
+    write_table(run / "contacts.txt", "clog id1 id2 x z fn ft arch", old + rows)
+    total, kept = silo2d_archive.archive(run, tmp_path / "archive")
+    all_contacts = read_table(run / "contacts.txt")
+    in_bulk = silo2d.bulk_mask(all_contacts["x"], all_contacts["z"], 1.0)
+    assert (total, kept) == (306, int(in_bulk.sum())) and 0 < kept < total
+    assert not (tmp_path / "archive" / "contacts.txt").exists()
+    packed = read_table(tmp_path / "archive" / "contacts.txt.xz")
+    np.testing.assert_allclose(packed["fn"], all_contacts["fn"][in_bulk], rtol=5e-6)   # 6 digits
+    np.testing.assert_allclose(packed["x"], all_contacts["x"][in_bulk], rtol=5e-7)
+
+    raw, archived = (silo2d_scan.load_run(path) for path in (run, tmp_path / "archive"))
+    for reading in silo2d.READINGS:
+        a = silo2d_scan.summarize(raw, reading, np.random.default_rng(5))
+        b = silo2d_scan.summarize(archived, reading, np.random.default_rng(5))
+        assert silo2d_scan.format_table([a]) == silo2d_scan.format_table([b])
+    direct = silo2d.force_profiles(all_contacts["x"], all_contacts["z"], all_contacts["fn"], 1.0)
+    summed = silo2d.profiles_from_sums(archived["profile_sums"])
+    for region in ("W", "I", "C"):
+        filled = direct[region][3] > 0
+        np.testing.assert_allclose(summed[region][0], direct[region][0][filled])
+        np.testing.assert_allclose(summed[region][1], direct[region][1][filled], rtol=1e-9)
+        np.testing.assert_allclose(summed[region][2], direct[region][2][filled], rtol=1e-9)
+        np.testing.assert_array_equal(summed[region][3], direct[region][3][filled])

@@ -257,6 +257,20 @@ def force_profiles(x, z, fn, d, bin_width_d=1.0, centre_max=CENTRE_MAX_D,
             for name in ("W", "I", "C")}
 
 
+SURFACE_QUANTILE = 99.0
+
+
+def surface_heights(clog, x, z, d):
+    """Per clog, the height (in d) of the free surface, taken as the height
+    below which SURFACE_QUANTILE % of the contacts of regions C and I lie
+    (the top layer's contacts are a few per cent of the column's): a
+    measure within about a diameter. Returns (clogs, heights)."""
+    clog, z = np.asarray(clog), np.asarray(z, dtype=float) / d
+    inner = region_of(x, d) != "W"
+    clogs = np.unique(clog)
+    return clogs, np.array([np.percentile(z[inner & (clog == c)], SURFACE_QUANTILE) for c in clogs])
+
+
 PROFILE_COLUMNS = ("region", "h_low", "h_high", "n", "mean_fn", "square_deviation_fn")
 REGION_CODES = {"W": 0, "I": 1, "C": 2}
 

@@ -13,6 +13,8 @@ of height. The archive keeps:
 - contacts.txt.xz: the rows of contacts.txt in the bulk window, with
   positions rounded to 7 significant digits and forces to 6, compressed
   with xz;
+- surfaces.txt: per clog, the height of the free surface in d
+  (analysis.silo2d.surface_heights, from all contacts);
 - profiles.txt: per region and bin of h/d (width 1), the number of contacts,
   their mean f_n and the sum of squared deviations from it, over all clogs
   (analysis.silo2d.profile_sums).
@@ -59,6 +61,10 @@ def archive(run_dir, archive_dir, d=None):
         packed.write("# " + " ".join(columns) + "\n")
         for k in np.flatnonzero(bulk):
             packed.write(CONTACT_ROW.format(*(contacts[c][k] for c in columns)))
+    clogs, heights = silo2d.surface_heights(contacts["clog"], contacts["x"], contacts["z"], d)
+    with open(archive_dir / "surfaces.txt", "w") as surfaces:
+        surfaces.write("# clog surface\n")
+        surfaces.writelines(f"{c:.0f} {h:.4f}\n" for c, h in zip(clogs, heights))
     sums = silo2d.profile_sums(contacts["x"], contacts["z"], contacts["fn"], d)
     with open(archive_dir / "profiles.txt", "w") as profiles:
         # region: 0 W, 1 I, 2 C; h in d; forces in N (the header line must come last)

@@ -15,7 +15,9 @@ grains and contacts of one clog are not independent); the defect fraction,
 Wilson over arch grains (a lower bound on its width, for the same reason);
 <f_n,b> and <f_n,a>, the paper's "95 % confidence interval of an
 exponential distribution" (analysis.silo2d.exponential_mean_ci) and the
-bootstrap over clogs beside it.
+bootstrap over clogs beside it. The surface height of the clogged silo
+(analysis.silo2d.surface_heights; the paper's is 80 d) is given too: the
+bulk window's force depends on its depth.
 
 CLI:  python3 -m analysis.silo2d_scan RUN_DIR [RUN_DIR ...] --out DIR [--reading members]
 """
@@ -66,10 +68,15 @@ def load_run(record_dir, d_default=1.0 / 32):
     geometry.setdefault("mass", geometry["rho"] * np.pi * geometry["d"] ** 3 / 6)
     contacts = tables["contacts"]
     bulk = silo2d.bulk_mask(contacts["x"], contacts["z"], geometry["d"])
-    # an archive (analysis.silo2d_archive) keeps the profiles as sums
+    # an archive (analysis.silo2d_archive) keeps the profiles as sums and
+    # the surfaces, which need every contact
     profiles = record_dir / "profiles.txt"
+    if (record_dir / "surfaces.txt").exists():
+        surfaces = read_table(record_dir / "surfaces.txt")["surface"]
+    else:
+        surfaces = silo2d.surface_heights(contacts["clog"], contacts["x"], contacts["z"], geometry["d"])[1]
     return {"dir": record_dir, "tables": tables, "feet": silo2d.read_feet(record_dir),
-            "geometry": geometry, "bulk": bulk,
+            "geometry": geometry, "bulk": bulk, "surfaces": np.atleast_1d(surfaces),
             "profile_sums": read_table(profiles) if profiles.exists() else None}
 
 
@@ -134,15 +141,16 @@ def summarize(run, reading, rng):
         "ratio": silo2d.force_ratio(groups),
         "ratio_ci": silo2d.bootstrap_over_clogs(groups, silo2d.force_ratio, rng, RESAMPLES),
         "n_bulk": int(bulk_fn.size),
+        "surface": silo2d.mean_t_ci(run["surfaces"]),
     }
 
 
 def format_table(rows):
     """Markdown: one line per run and reading, the paper's values beside."""
-    lines = ["| mu | reading | arches | mean eta | eta mode [95 %] | tail rate [95 %] | "
+    lines = ["| mu | reading | arches | surface h/d | mean eta | eta mode [95 %] | tail rate [95 %] | "
              "phi peak [95 %] | defects [95 %] | <f_n,b>/mg | <f_n,a>/mg | ratio [95 %] | "
              "paper: <f_n,b>, <f_n,a>, ratio |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         paper = silo2d.PAPER_TABLE1.get(round(r["mu"], 3))
         ratio = paper_ratio(r["mu"])
@@ -151,7 +159,8 @@ def format_table(rows):
         eta_mean, eta_half = r["eta_mean"]
         p, p_low, p_high = r["defects"]
         lines.append(
-            f"| {r['mu']:g} | {r['reading']} | {r['arches']} | {eta_mean:.2f} ± {eta_half:.2f} | "
+            f"| {r['mu']:g} | {r['reading']} | {r['arches']} | "
+            f"{r['surface'][0]:.1f} ± {r['surface'][1]:.1f} | {eta_mean:.2f} ± {eta_half:.2f} | "
             f"{r['eta_mode']} [{r['eta_mode_ci'][0]:g}, {r['eta_mode_ci'][1]:g}] | "
             f"{r['tail_rate']:.2f} [{r['tail_rate_ci'][0]:.2f}, {r['tail_rate_ci'][1]:.2f}] | "
             f"{r['phi_peak']:g} [{r['phi_peak_ci'][0]:g}, {r['phi_peak_ci'][1]:g}] | "

@@ -51,7 +51,10 @@ def test_scan_table_of_two_runs(tmp_path):
     lines = [line for line in (out / "scan_table.md").read_text().splitlines() if line.startswith("| 0.")]
     assert [line.split("|")[1:3] for line in lines] == \
         [[f" {mu} ", f" {reading} "] for mu in ("0.2", "0.4") for reading in ("members", "outlet", "feet")]
-    members, outlet, feet = (line.split("|") for line in lines[3:])
+    members, outlet, feet = ([""] + line.split("|")[1:4] + line.split("|")[5:] for line in lines[3:])
+    # surface: the 99th percentile of the heights of the C and I contacts,
+    # 1.3 27 30 40 48 (x = 13 is W): 40 + 0.96 * (48 - 40) = 47.68, one clog
+    assert lines[3].split("|")[4].strip() == "47.7 ± nan"
     assert members[3].strip() == "1" and members[5].strip().startswith("3 ")
     assert outlet[5].strip().startswith("4 ") and feet[5].strip().startswith("5 ")
     assert members[8].strip().startswith("0.333 ") and outlet[8].strip().startswith("0.500 ")

@@ -53,13 +53,15 @@ int own_keyword_values(const char *keyword)
 }
 
 const double UNIT_TOLERANCE = 1e-6;
+// a rod touches the plate at most at its two ends and twice at the rim
+const int PLATE_SLOTS = silokit::max_wall_contacts;
 
 }  // namespace
 
 /* ---------------------------------------------------------------------- */
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
-  FixWallGran(lmp, move_own_keywords_last(lmp, narg, arg), arg),
+  FixWallGranRodContacts(lmp, move_own_keywords_last(lmp, narg, arg), arg, PLATE_SLOTS),
   hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0), reduced_step(-1)
 {
   if (meshwall_ != 0 || !primitiveWall_)
@@ -274,8 +276,9 @@ double FixWallGranRotating::hole_radius_now() const
 /* ----------------------------------------------------------------------
    The primitive-wall force loop of FixWallGran (fix_wall_gran.cpp,
    post_force_primitive) for the plate with a hole: the same neighbor list,
-   history and contact-model call, for spheres only (the stock loop's
-   superquadric and multicontact branches do not apply to this wall).
+   history and contact-model call for spheres (the stock loop's
+   superquadric and multicontact branches do not apply to this wall), and
+   the contacts of fix_wall_gran_rod_contacts.h for rods.
 ------------------------------------------------------------------------- */
 
 void FixWallGranRotating::post_force_primitive(int)
@@ -284,9 +287,6 @@ void FixWallGranRotating::post_force_primitive(int)
   double **force = atom->f;
   double **torque = atom->torque;
   double **history = dnum() > 0 ? fix_history_primitive_->array_atom : NULL;
-  // contact models may act on grains a little apart (surfacesClose), as in
-  // the stock loop
-  const double close_fraction = neighbor->contactDistanceFactor - 1.0;
   const double spin = angular_velocity();
   const double hole = hole_radius_now();
   const bool summing = computeflag_ != 0;
@@ -302,40 +302,23 @@ void FixWallGranRotating::post_force_primitive(int)
   double plate_spin[3];
   for (int k = 0; k < 3; ++k) plate_spin[k] = spin*axis[k];
 
-  LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
-  sidata.is_wall = true;
-  sidata.omega_j = plate_spin;
-
   int *neighbors;
   const int count = primitiveWall_->getNeighbors(neighbors);
   for (int n = 0; n < count; ++n) {
     const int i = neighbors[n];
     if (!(mask[i] & groupbit)) continue;
-    const double radius = radius_[i];
-    const silokit::PlateContact contact = silokit::nearest_plate_point(x_[i], centre, axis, hole);
-    const double gap = contact.distance - radius;      // < 0: the grain overlaps the plate
-    const bool touching = gap <= 0.0;
-    // a centre exactly on the plate has no contact direction: reachable only
-    // through an overlap of a whole radius, which no time step allows
-    if ((!touching && gap >= close_fraction*radius) || contact.distance == 0.0) {
-      if (history) std::memset(history[i], 0, dnum_*sizeof(double));
-      continue;
-    }
-
-    double wall_velocity[3];
-    silokit::plate_velocity(contact.point, centre, axis, spin, wall_velocity);
-    sidata.i = i;
-    sidata.radi = radius;
-    sidata.contact_history = history ? history[i] : NULL;
-    sidata.deltan = -gap;
-    for (int k = 0; k < 3; ++k) sidata.delta[k] = -contact.to_plate[k];
-
     double force_before[3], torque_before[3];
     for (int k = 0; k < 3; ++k) {
       force_before[k] = force[i][k];
       torque_before[k] = torque[i][k];
     }
-    impl->compute_force(this, sidata, touching, wall_velocity);
+    bool touching;
+    if (rods()) {
+      rod_contacts(i, hole);
+      touching = true;
+    } else {
+      touching = sphere_contact(i, history, spin, hole, plate_spin);
+    }
     if (!summing) continue;
 
     // reaction on the plate: minus the force on the grain, and minus its
@@ -353,8 +336,53 @@ void FixWallGranRotating::post_force_primitive(int)
       local_sums[0] -= df[k]*axis[k];
       local_sums[1] -= moment[k]*axis[k];
     }
+    // a rod counts when any of its contacts touches
+    if (rods()) touching = df[0] != 0.0 || df[1] != 0.0 || df[2] != 0.0;
     if (touching) local_sums[2] += 1.0;
   }
+}
+
+bool FixWallGranRotating::sphere_contact(int i, double **history, double spin, double hole,
+                                         double *plate_spin)
+{
+  // contact models may act on grains a little apart (surfacesClose), as in
+  // the stock loop
+  const double close_fraction = neighbor->contactDistanceFactor - 1.0;
+  const double radius = radius_[i];
+  const silokit::PlateContact contact = silokit::nearest_plate_point(x_[i], centre, axis, hole);
+  const double gap = contact.distance - radius;      // < 0: the grain overlaps the plate
+  const bool touching = gap <= 0.0;
+  // a centre exactly on the plate has no contact direction: reachable only
+  // through an overlap of a whole radius, which no time step allows
+  if ((!touching && gap >= close_fraction*radius) || contact.distance == 0.0) {
+    if (history) std::memset(history[i], 0, dnum_*sizeof(double));
+    return false;
+  }
+  double wall_velocity[3];
+  silokit::plate_velocity(contact.point, centre, axis, spin, wall_velocity);
+  LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
+  sidata.is_wall = true;
+  sidata.omega_j = plate_spin;
+  sidata.i = i;
+  sidata.radi = radius;
+  sidata.contact_history = history ? history[i] : NULL;
+  sidata.deltan = -gap;
+  for (int k = 0; k < 3; ++k) sidata.delta[k] = -contact.to_plate[k];
+  impl->compute_force(this, sidata, touching, wall_velocity);
+  return touching;
+}
+
+void FixWallGranRotating::rod_contacts(int i, double hole)
+{
+  double rod_axis[3], half_length, radius;
+  rod_of(i, rod_axis, half_length, radius);
+  apply_rod_contacts(i, silokit::rod_plate_contacts(x_[i], rod_axis, half_length, radius,
+                                                    centre, axis, hole));
+}
+
+void FixWallGranRotating::wall_velocity(const double *point, double *velocity) const
+{
+  silokit::plate_velocity(point, centre, axis, angular_velocity(), velocity);
 }
 
 /* ---------------------------------------------------------------------- */

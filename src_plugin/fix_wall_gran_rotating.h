@@ -7,6 +7,8 @@
    a `fix wall/gran` primitive plane whose contacts are resolved against the
    plate with its hole (orifice_plate.h) and whose velocity at a contact
    point is omega x r. Every contact model of fix wall/gran applies.
+   Rods (atom_style spherocylinder) touch it at their ends and at the rim
+   (spherocylinder_geometry.h, rule 8; fix_wall_gran_rod_contacts.h).
    Documentation: doc/fix_wall_gran_rotating.md.
 ------------------------------------------------------------------------- */
 
@@ -19,12 +21,12 @@ FixStyle(wall/gran/rotating,FixWallGranRotating)
 #ifndef LMP_FIX_WALL_GRAN_ROTATING_H
 #define LMP_FIX_WALL_GRAN_ROTATING_H
 
-#include "fix_wall_gran.h"
+#include "fix_wall_gran_rod_contacts.h"
 #include "silokit_clock.h"
 
 namespace LAMMPS_NS {
 
-class FixWallGranRotating : public FixWallGran {
+class FixWallGranRotating : public FixWallGranRodContacts {
  public:
   FixWallGranRotating(class LAMMPS *, int, char **);
   ~FixWallGranRotating();
@@ -43,6 +45,8 @@ class FixWallGranRotating : public FixWallGran {
 
  protected:
   void post_force_primitive(int vflag);
+  // omega x r of the plate at a rod's contact point
+  void wall_velocity(const double *point, double *velocity) const;
 
  private:
   double centre[3];         // a point of the axis, in the plane of the plate
@@ -67,6 +71,10 @@ class FixWallGranRotating : public FixWallGran {
   void parse_own_keywords(int first, int narg, char **arg);
   void read_plane(int narg, char **arg);
   void check_geometry();
+  // the contact of sphere i with the plate, through the contact model;
+  // returns whether it touches
+  bool sphere_contact(int i, double **history, double spin, double hole, double *plate_spin);
+  void rod_contacts(int i, double hole);
 };
 
 }

@@ -1,0 +1,471 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   atom_style spherocylinder (atom_vec_spherocylinder.h says what each
+   array holds and how the buffers are laid out).
+------------------------------------------------------------------------- */
+
+#include "atom_vec_spherocylinder.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "atom.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "pair_gran.h"
+#include "math_extra.h"
+#include "memory.h"
+#include "modify.h"
+#include "spherocylinder_geometry.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// The unit quaternion of the shortest rotation that turns the x axis onto
+// the unit vector `axis`: about x cross axis, by the angle between them,
+// i.e. (1 + axis_x, x cross axis) normalised; a rod along -x is turned
+// half a turn about z.
+void quaternion_turning_x_onto(const double *axis, double *q)
+{
+  q[0] = 1.0 + axis[0];
+  q[1] = 0.0;
+  q[2] = -axis[2];
+  q[3] = axis[1];
+  const double norm = std::sqrt(q[0]*q[0] + q[2]*q[2] + q[3]*q[3]);
+  if (norm < 1e-150) {
+    q[0] = q[1] = q[2] = 0.0;
+    q[3] = 1.0;
+    return;
+  }
+  for (int k = 0; k < 4; ++k) q[k] /= norm;
+}
+
+}  // namespace
+
+/* ---------------------------------------------------------------------- */
+
+AtomVecSpherocylinder::AtomVecSpherocylinder(LAMMPS *lmp) :
+  AtomVecSphere(lmp), quaternion(NULL), angmom(NULL), shape(NULL), inertia(NULL)
+{
+  comm_x_only = 0;
+  size_forward = SPHERE_COMM + ROD_COMM;
+  size_border = 9 + ROD_BORDER;
+  size_velocity = 6;
+  // id type diameter length density x y z qw qi qj qk
+  size_data_atom = 12;
+  xcol_data = 6;
+  atom->angmom_flag = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::init()
+{
+  AtomVecSphere::init();
+  // the sphere's init turns x-only communication back on; ghosts need
+  // their orientation at every step
+  comm_x_only = 0;
+  size_forward = SPHERE_COMM + ROD_COMM;
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i]->rad_mass_vary_flag)
+      error->all(FLERR, "atom_style spherocylinder: fixes that change the particle radius "
+                        "(fix adapt, ...) are not supported");
+  refuse_sphere_only_styles();
+}
+
+/* ----------------------------------------------------------------------
+   Styles that would treat a rod as its bounding sphere (radius L/2) run
+   without complaint and give wrong physics: refuse them by name.
+------------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::refuse_sphere_only_styles()
+{
+  static const char *sphere_fixes[][2] = {
+    {"wall/gran", "fix wall/gran/spherocylinder"},
+    {"nve/sphere", "fix nve/spherocylinder"},
+    {"nve", "fix nve/spherocylinder"},
+    {"nve/asphere", "fix nve/spherocylinder"},
+    {"multisphere", "atom_style sphere"},
+  };
+  for (int i = 0; i < modify->nfix; i++) {
+    const std::string style = modify->fix[i]->style;
+    for (size_t k = 0; k < sizeof(sphere_fixes)/sizeof(sphere_fixes[0]); ++k)
+      if (style == sphere_fixes[k][0])
+        error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(modify->fix[i]->id) + " (" +
+                           style + ") treats rods as spheres; use " + sphere_fixes[k][1]).c_str());
+    if (style.compare(0, 7, "insert/") == 0)
+      error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(modify->fix[i]->id) + " (" + style +
+                         ") inserts spheres; place rods with create_atoms and set_spherocylinder").c_str());
+  }
+  PairGran *pair = force->pair ? dynamic_cast<PairGran *>(force->pair) : NULL;
+  if (force->pair && !pair)
+    error->all(FLERR, "atom_style spherocylinder: the pair style must be gran with surface spherocylinder");
+  if (pair && !pair->contact_match("surface", "spherocylinder"))
+    error->all(FLERR, "atom_style spherocylinder: pair_style gran needs 'surface spherocylinder' "
+                      "(the default surface treats rods as their bounding spheres)");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::grow(int n)
+{
+  AtomVecSphere::grow(n);
+  quaternion = memory->grow(atom->quaternion, nmax, 4, "atom:quaternion");
+  angmom = memory->grow(atom->angmom, nmax, 3, "atom:angmom");
+  shape = memory->grow(atom->shape, nmax, 3, "atom:shape");
+  inertia = memory->grow(atom->inertia, nmax, 3, "atom:inertia");
+}
+
+void AtomVecSpherocylinder::grow_reset()
+{
+  AtomVecSphere::grow_reset();
+  quaternion = atom->quaternion;
+  angmom = atom->angmom;
+  shape = atom->shape;
+  inertia = atom->inertia;
+}
+
+void AtomVecSpherocylinder::copy(int i, int j, int delflag)
+{
+  for (int k = 0; k < 4; ++k) quaternion[j][k] = quaternion[i][k];
+  for (int k = 0; k < 3; ++k) {
+    angmom[j][k] = angmom[i][k];
+    shape[j][k] = shape[i][k];
+    inertia[j][k] = inertia[i][k];
+  }
+  // last: the sphere's copy also lets the fixes copy their values
+  AtomVecSphere::copy(i, j, delflag);
+}
+
+/* ----------------------------------------------------------------------
+   forward communication: the sphere's values (x; x, v, omega), then the
+   quaternions of the same atoms
+------------------------------------------------------------------------- */
+
+int AtomVecSpherocylinder::pack_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  int m = AtomVecSphere::pack_comm(n, list, buf, pbc_flag, pbc);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[list[i]][k];
+  return m;
+}
+
+int AtomVecSpherocylinder::pack_comm_vel(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  int m = AtomVecSphere::pack_comm_vel(n, list, buf, pbc_flag, pbc);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[list[i]][k];
+  return m;
+}
+
+void AtomVecSpherocylinder::unpack_comm(int n, int first, double *buf)
+{
+  AtomVecSphere::unpack_comm(n, first, buf);
+  int m = n*SPHERE_COMM;
+  for (int i = first; i < first + n; ++i)
+    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+}
+
+void AtomVecSpherocylinder::unpack_comm_vel(int n, int first, double *buf)
+{
+  AtomVecSphere::unpack_comm_vel(n, first, buf);
+  int m = n*SPHERE_COMM_VEL;
+  for (int i = first; i < first + n; ++i)
+    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+}
+
+/* ----------------------------------------------------------------------
+   borders: quaternion and shape of the n atoms first, then the sphere's
+   values, which end with those of the fixes (whose sizes only they know)
+------------------------------------------------------------------------- */
+
+int AtomVecSpherocylinder::pack_border(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = list[i];
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[j][k];
+    for (int k = 0; k < 3; ++k) buf[m++] = shape[j][k];
+  }
+  return m + AtomVecSphere::pack_border(n, list, &buf[m], pbc_flag, pbc);
+}
+
+int AtomVecSpherocylinder::pack_border_vel(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = list[i];
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[j][k];
+    for (int k = 0; k < 3; ++k) buf[m++] = shape[j][k];
+  }
+  return m + AtomVecSphere::pack_border_vel(n, list, &buf[m], pbc_flag, pbc);
+}
+
+void AtomVecSpherocylinder::unpack_border(int n, int first, double *buf)
+{
+  // the sphere's part first: it grows the arrays for the new ghosts
+  AtomVecSphere::unpack_border(n, first, &buf[n*ROD_BORDER]);
+  int m = 0;
+  for (int i = first; i < first + n; ++i) {
+    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+    for (int k = 0; k < 3; ++k) shape[i][k] = buf[m++];
+  }
+}
+
+void AtomVecSpherocylinder::unpack_border_vel(int n, int first, double *buf)
+{
+  AtomVecSphere::unpack_border_vel(n, first, &buf[n*ROD_BORDER]);
+  int m = 0;
+  for (int i = first; i < first + n; ++i) {
+    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+    for (int k = 0; k < 3; ++k) shape[i][k] = buf[m++];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   all of a rod's own values, for exchange and restart
+------------------------------------------------------------------------- */
+
+int AtomVecSpherocylinder::pack_rod_all(int i, double *buf) const
+{
+  int m = 0;
+  for (int k = 0; k < 4; ++k) buf[m++] = quaternion[i][k];
+  for (int k = 0; k < 3; ++k) buf[m++] = angmom[i][k];
+  for (int k = 0; k < 3; ++k) buf[m++] = shape[i][k];
+  for (int k = 0; k < 3; ++k) buf[m++] = inertia[i][k];
+  return m;
+}
+
+int AtomVecSpherocylinder::unpack_rod_all(int i, const double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+  for (int k = 0; k < 3; ++k) angmom[i][k] = buf[m++];
+  for (int k = 0; k < 3; ++k) shape[i][k] = buf[m++];
+  for (int k = 0; k < 3; ++k) inertia[i][k] = buf[m++];
+  return m;
+}
+
+/* ----------------------------------------------------------------------
+   exchange: the sphere's values (x first, as Comm::exchange reads it, and
+   the fixes' values, each unpacked by its own size), then ours
+------------------------------------------------------------------------- */
+
+int AtomVecSpherocylinder::pack_exchange(int i, double *buf)
+{
+  int m = AtomVecSphere::pack_exchange(i, buf);
+  m += pack_rod_all(i, &buf[m]);
+  buf[0] = m;
+  return m;
+}
+
+int AtomVecSpherocylinder::unpack_exchange(double *buf)
+{
+  int m = AtomVecSphere::unpack_exchange(buf);
+  m += unpack_rod_all(atom->nlocal - 1, &buf[m]);
+  return m;
+}
+
+/* ----------------------------------------------------------------------
+   restart: read_restart tests x (the first values), and the sphere's
+   unpack keeps everything after its own values as the fixes' extra
+   values, sized from buf[0]: ours go between the two, so the sphere's
+   layout is written out here
+------------------------------------------------------------------------- */
+
+int AtomVecSpherocylinder::size_restart()
+{
+  const int nlocal = atom->nlocal;
+  int n = (SPHERE_RESTART + ROD_ALL)*nlocal;
+  for (int iextra = 0; iextra < atom->nextra_restart; iextra++)
+    for (int i = 0; i < nlocal; i++)
+      n += modify->fix[atom->extra_restart[iextra]]->size_restart(i);
+  return n;
+}
+
+int AtomVecSpherocylinder::pack_restart(int i, double *buf)
+{
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  int m = 1;
+  for (int k = 0; k < 3; ++k) buf[m++] = x[i][k];
+  buf[m++] = ubuf(atom->tag[i]).d;
+  buf[m++] = ubuf(atom->type[i]).d;
+  buf[m++] = ubuf(atom->mask[i]).d;
+  buf[m++] = ubuf(atom->image[i]).d;
+  for (int k = 0; k < 3; ++k) buf[m++] = v[i][k];
+  buf[m++] = atom->radius[i];
+  buf[m++] = atom->rmass[i];
+  buf[m++] = atom->density[i];
+  for (int k = 0; k < 3; ++k) buf[m++] = omega[i][k];
+  m += pack_rod_all(i, &buf[m]);
+  for (int iextra = 0; iextra < atom->nextra_restart; iextra++)
+    m += modify->fix[atom->extra_restart[iextra]]->pack_restart(i, &buf[m]);
+  buf[0] = m;
+  return m;
+}
+
+int AtomVecSpherocylinder::unpack_restart(double *buf)
+{
+  const int nlocal = atom->nlocal;
+  if (nlocal == nmax) {
+    grow(0);
+    if (atom->nextra_store)
+      memory->grow(atom->extra, nmax, atom->nextra_store, "atom:extra");
+  }
+  double **x = atom->x, **v = atom->v, **omega = atom->omega;
+  int m = 1;
+  for (int k = 0; k < 3; ++k) x[nlocal][k] = buf[m++];
+  atom->tag[nlocal] = (int) ubuf(buf[m++]).i;
+  atom->type[nlocal] = (int) ubuf(buf[m++]).i;
+  atom->mask[nlocal] = (int) ubuf(buf[m++]).i;
+  atom->image[nlocal] = (tagint) ubuf(buf[m++]).i;
+  for (int k = 0; k < 3; ++k) v[nlocal][k] = buf[m++];
+  atom->radius[nlocal] = buf[m++];
+  atom->rmass[nlocal] = buf[m++];
+  atom->density[nlocal] = buf[m++];
+  for (int k = 0; k < 3; ++k) omega[nlocal][k] = buf[m++];
+  m += unpack_rod_all(nlocal, &buf[m]);
+  if (atom->nextra_store) {
+    const int size = static_cast<int>(buf[0]) - m;
+    for (int k = 0; k < size; k++) atom->extra[nlocal][k] = buf[m++];
+  }
+  atom->nlocal++;
+  return m;
+}
+
+/* ----------------------------------------------------------------------
+   create_atoms: a rod of diameter 1 and length 1 (a sphere, as the
+   sphere style's default) along x; set_spherocylinder gives it its size
+------------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::create_atom(int itype, double *coord)
+{
+  AtomVecSphere::create_atom(itype, coord);
+  const double x_axis[3] = {1.0, 0.0, 0.0};
+  const int i = atom->nlocal - 1;
+  set_rod(i, 1.0, 1.0, atom->density[i], x_axis);
+}
+
+/* ----------------------------------------------------------------------
+   data files: id type diameter length density x y z qw qi qj qk
+------------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::data_atom(double *coord, tagint imagetmp, char **values)
+{
+  // the sphere reads id, type, "diameter" (our bounding sphere is set
+  // below), density in columns 0, 1, 2, 4 of its own layout: give it ours
+  char *sphere_values[4] = {values[0], values[1], values[2], values[4]};
+  AtomVecSphere::data_atom(coord, imagetmp, sphere_values);
+  const int i = atom->nlocal - 1;
+  const double diameter = atof(values[2]);
+  const double length = atof(values[3]);
+  if (!(diameter > 0.0) || !(length >= diameter))
+    error->one(FLERR, "atom_style spherocylinder: Atoms section needs diameter > 0 and "
+                      "length >= diameter");
+  double q[4];
+  for (int k = 0; k < 4; ++k) q[k] = atof(values[8 + k]);
+  const double norm = std::sqrt(q[0]*q[0] + q[1]*q[1] + q[2]*q[2] + q[3]*q[3]);
+  if (!(norm > 0.0))
+    error->one(FLERR, "atom_style spherocylinder: Atoms section has a zero quaternion");
+  for (int k = 0; k < 4; ++k) q[k] /= norm;
+  double axis[3], ey[3], ez[3];
+  MathExtra::q_to_exyz(q, axis, ey, ez);
+  set_rod(i, diameter, length, atom->density[i], axis);
+  // the quaternion as given (set_rod's is one of the many that turn x onto
+  // the axis; the rod's spin about its axis is kept)
+  for (int k = 0; k < 4; ++k) quaternion[i][k] = q[k];
+}
+
+// Velocities: vx vy vz wx wy wz as for spheres; the angular momentum
+// follows from omega
+void AtomVecSpherocylinder::data_vel(int m, char **values)
+{
+  AtomVecSphere::data_vel(m, values);
+  angmom_from_omega(m);
+}
+
+void AtomVecSpherocylinder::pack_data(double **buf)
+{
+  pack_data(buf, 0);
+}
+
+void AtomVecSpherocylinder::pack_data(double **buf, int tag_offset)
+{
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    const tagint image = atom->image[i];
+    buf[i][0] = ubuf(atom->tag[i] + tag_offset).d;
+    buf[i][1] = ubuf(atom->type[i]).d;
+    buf[i][2] = 2.0*shape[i][1];
+    buf[i][3] = 2.0*shape[i][0];
+    buf[i][4] = atom->density[i];
+    for (int k = 0; k < 3; ++k) buf[i][5 + k] = atom->x[i][k];
+    for (int k = 0; k < 4; ++k) buf[i][8 + k] = quaternion[i][k];
+    buf[i][12] = ubuf((image & IMGMASK) - IMGMAX).d;
+    buf[i][13] = ubuf((image >> IMGBITS & IMGMASK) - IMGMAX).d;
+    buf[i][14] = ubuf((image >> IMG2BITS) - IMGMAX).d;
+  }
+}
+
+void AtomVecSpherocylinder::write_data(FILE *fp, int n, double **buf)
+{
+  for (int i = 0; i < n; i++) {
+    fprintf(fp, "%d %d", (int) ubuf(buf[i][0]).i, (int) ubuf(buf[i][1]).i);
+    for (int k = 2; k < 12; ++k) fprintf(fp, " %-1.16e", buf[i][k]);
+    fprintf(fp, " %d %d %d\n", (int) ubuf(buf[i][12]).i, (int) ubuf(buf[i][13]).i,
+            (int) ubuf(buf[i][14]).i);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+bigint AtomVecSpherocylinder::memory_usage()
+{
+  bigint bytes = AtomVecSphere::memory_usage();
+  if (atom->memcheck("quaternion")) bytes += memory->usage(quaternion, nmax, 4);
+  if (atom->memcheck("angmom")) bytes += memory->usage(angmom, nmax, 3);
+  if (atom->memcheck("shape")) bytes += memory->usage(shape, nmax, 3);
+  if (atom->memcheck("inertia")) bytes += memory->usage(inertia, nmax, 3);
+  return bytes;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSpherocylinder::set_rod(int i, double diameter, double length, double density,
+                                    const double *axis)
+{
+  const silokit::MassProperties solid =
+      silokit::spherocylinder_mass_properties(diameter, length, density);
+  atom->density[i] = density;
+  atom->rmass[i] = solid.mass;
+  atom->radius[i] = 0.5*length;
+  shape[i][0] = 0.5*length;
+  shape[i][1] = shape[i][2] = 0.5*diameter;
+  inertia[i][0] = solid.axial_inertia;
+  inertia[i][1] = inertia[i][2] = solid.transverse_inertia;
+  quaternion_turning_x_onto(axis, quaternion[i]);
+  angmom_from_omega(i);
+}
+
+void AtomVecSpherocylinder::axis_of(int i, double *axis) const
+{
+  double ey[3], ez[3];
+  MathExtra::q_to_exyz(quaternion[i], axis, ey, ez);
+}
+
+// L = R I R^T omega, R the rotation of the quaternion
+void AtomVecSpherocylinder::angmom_from_omega(int i)
+{
+  double rotation[3][3], body_omega[3];
+  MathExtra::quat_to_mat(quaternion[i], rotation);
+  MathExtra::transpose_matvec(rotation, atom->omega[i], body_omega);
+  for (int k = 0; k < 3; ++k) body_omega[k] *= inertia[i][k];
+  MathExtra::matvec(rotation, body_omega, angmom[i]);
+}

@@ -1,0 +1,169 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+
+   The rod part of silokit's primitive walls (fix_wall_gran_rod_contacts.h).
+------------------------------------------------------------------------- */
+
+#include "fix_wall_gran_rod_contacts.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "atom.h"
+#include "atom_vec_spherocylinder.h"
+#include "contact_interface.h"
+#include "error.h"
+#include "fix_property_atom.h"
+#include "fix_wall_gran_base.h"
+#include "math_extra.h"
+#include "modify.h"
+
+using namespace LAMMPS_NS;
+
+FixWallGranRodContacts::FixWallGranRodContacts(LAMMPS *lmp, int narg, char **arg, int slots) :
+  FixWallGran(lmp, narg, arg), slots_(slots), rod_history_(NULL)
+{
+}
+
+/* ----------------------------------------------------------------------
+   With rods, a history of `slots` contacts per rod, kept in restart files.
+------------------------------------------------------------------------- */
+
+void FixWallGranRodContacts::post_create()
+{
+  FixWallGran::post_create();
+  if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec)) return;
+  if (meshwall_ != 0)
+    error->fix_error(FLERR, this, "rods (atom_style spherocylinder) touch primitive walls only, not meshes");
+  const std::string name = std::string("rod_history_") + id;
+  const int values = slots_*slot_size();
+  std::vector<std::string> zeros(values, "0.");
+  std::vector<const char *> fixarg;
+  const char *head[] = {name.c_str(), "all", "property/atom", name.c_str(), "vector",
+                        "yes",    // restart
+                        "no",     // communicate ghost
+                        "no"};    // communicate reverse
+  fixarg.assign(head, head + 8);
+  for (int k = 0; k < values; ++k) fixarg.push_back(zeros[k].c_str());
+  modify->add_fix(static_cast<int>(fixarg.size()), const_cast<char **>(&fixarg[0]));
+  rod_history_ = static_cast<FixPropertyAtom *>(
+      modify->find_fix_property(name.c_str(), "property/atom", "vector", values, 0, style));
+}
+
+void FixWallGranRodContacts::pre_delete(bool unfixflag)
+{
+  if (unfixflag && rod_history_) modify->delete_fix(rod_history_->id);
+  FixWallGran::pre_delete(unfixflag);
+}
+
+void FixWallGranRodContacts::init()
+{
+  FixWallGran::init();
+  if (rods() && (!impl || !impl->contact_match("surface", "spherocylinder")))
+    error->fix_error(FLERR, this, "rods need 'surface spherocylinder' in the wall's model "
+                                  "(the default surface treats them as spheres)");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixWallGranRodContacts::rod_of(int i, double *axis, double &half_length, double &radius) const
+{
+  double ey[3], ez[3];
+  MathExtra::q_to_exyz(atom->quaternion[i], axis, ey, ez);
+  radius = atom->shape[i][1];
+  half_length = atom->shape[i][0] - radius;
+}
+
+void FixWallGranRodContacts::wall_velocity(const double *, double *velocity) const
+{
+  velocity[0] = velocity[1] = velocity[2] = 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   The slot for a contact at t: the slot in use whose t is nearest, within
+   the rod's radius, and not taken by another contact this step; else the
+   first free one; -1 if none is left.
+------------------------------------------------------------------------- */
+
+int FixWallGranRodContacts::take_slot(double *slots, double t, double radius, const bool *taken) const
+{
+  int best = -1;
+  double best_distance = radius;
+  for (int s = 0; s < slots_; ++s) {
+    const double *slot = slots + s*slot_size();
+    if (taken[s] || slot[0] == 0.0) continue;
+    const double distance = std::fabs(slot[1] - t);
+    if (distance <= best_distance) {
+      best = s;
+      best_distance = distance;
+    }
+  }
+  if (best >= 0) return best;
+  for (int s = 0; s < slots_; ++s) {
+    double *slot = slots + s*slot_size();
+    if (taken[s] || slot[0] != 0.0) continue;
+    std::memset(slot, 0, slot_size()*sizeof(double));
+    return s;
+  }
+  // every slot holds a contact of the last step that none of this step's
+  // contacts is near: take the first of them afresh
+  for (int s = 0; s < slots_; ++s)
+    if (!taken[s]) {
+      std::memset(slots + s*slot_size(), 0, slot_size()*sizeof(double));
+      return s;
+    }
+  return -1;
+}
+
+/* ----------------------------------------------------------------------
+   Each contact as a sphere contact of the rod's radius at its core point:
+   delta from the wall point to the core point (fix_wall_gran_base.h makes
+   en and the distance from it), overlap, contact point in the middle of
+   the overlap, and the wall's velocity there.
+------------------------------------------------------------------------- */
+
+void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContacts &contacts)
+{
+  double *slots = rod_history_->array_atom[i];
+  double axis[3], half_length, radius;
+  rod_of(i, axis, half_length, radius);
+
+  bool taken[16];
+  if (slots_ > 16) error->one(FLERR, "fix wall/gran rods: too many contact slots");
+  for (int s = 0; s < slots_; ++s) taken[s] = false;
+  int slot_of[silokit::max_wall_contacts];
+  if (contacts.count > slots_)
+    error->one(FLERR, "a rod touches a wall at more points than this wall keeps histories for");
+  for (int c = 0; c < contacts.count; ++c) {
+    slot_of[c] = take_slot(slots, contacts.contact[c].t, radius, taken);
+    taken[slot_of[c]] = true;
+  }
+  // slots no contact took: the contacts they held have ended
+  for (int s = 0; s < slots_; ++s)
+    if (!taken[s]) std::memset(slots + s*slot_size(), 0, slot_size()*sizeof(double));
+
+  LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
+  sidata.is_wall = true;
+  for (int c = 0; c < contacts.count; ++c) {
+    const silokit::WallContact &contact = contacts.contact[c];
+    double *slot = slots + slot_of[c]*slot_size();
+    slot[0] = 1.0;
+    slot[1] = contact.t;
+    const double distance = radius - contact.overlap;
+    sidata.i = i;
+    sidata.radi = radius;
+    sidata.deltan = contact.overlap;
+    sidata.contact_history = dnum_ > 0 ? slot + 2 : NULL;
+    for (int k = 0; k < 3; ++k) {
+      sidata.delta[k] = distance*contact.normal[k];
+      sidata.contact_point[k] = contact.wall_point[k] - 0.5*contact.overlap*contact.normal[k];
+    }
+    sidata.is_non_spherical = true;
+    double velocity[3];
+    wall_velocity(sidata.contact_point, velocity);
+    impl->compute_force(this, sidata, true, velocity);
+  }
+}

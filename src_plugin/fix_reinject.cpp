@@ -344,6 +344,8 @@ void FixReinject::move_local_grains(const std::map<int, Sphere> &spots)
       atom->x[i][k] = found->second.x[k];
       atom->v[i][k] = 0.0;
       atom->omega[i][k] = 0.0;
+      // rods (atom_style spherocylinder) turn with their angular momentum
+      if (atom->angmom) atom->angmom[i][k] = 0.0;
     }
   }
 }

@@ -44,15 +44,19 @@ def progress(message):
 # ---------------------------------------------------------------- records
 
 def read_run_info(run_dir):
-    """run.txt: `key value` lines, '#' comments; the keys of RUN_KEYS are
-    required (an error names the file and the missing keys)."""
+    """run.txt: `key value` lines, '#' comments; numbers as floats, words
+    (`shape rod`) as strings; the keys of RUN_KEYS are required (an error
+    names the file and the missing keys)."""
     path = Path(run_dir) / "run.txt"
     info = {}
     for line in path.read_text().splitlines():
         line = line.split("#", 1)[0].strip()
         if line:
             key, value = line.split()[:2]
-            info[key] = float(value)
+            try:
+                info[key] = float(value)
+            except ValueError:
+                info[key] = value
     missing = [key for key in RUN_KEYS if key not in info]
     if missing:
         raise ValueError(f"{path}: missing keys {missing}")

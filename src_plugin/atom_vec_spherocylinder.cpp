@@ -23,6 +23,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "spherocylinder_geometry.h"
+#include "spherocylinder_model_check.h"
 
 using namespace LAMMPS_NS;
 
@@ -69,6 +70,8 @@ AtomVecSpherocylinder::AtomVecSpherocylinder(LAMMPS *lmp) :
 void AtomVecSpherocylinder::init()
 {
   AtomVecSphere::init();
+  // mass, inertia and the contact geometry are those of the 3D solid
+  if (domain->dimension != 3) error->all(FLERR, "atom_style spherocylinder is for 3D runs (dimension 3) only");
   // the sphere's init turns x-only communication back on; ghosts need
   // their orientation at every step
   comm_x_only = 0;
@@ -87,29 +90,36 @@ void AtomVecSpherocylinder::init()
 
 void AtomVecSpherocylinder::refuse_sphere_only_styles()
 {
+  // style (or the start of its name, ending in '*') -> what to use instead
   static const char *sphere_fixes[][2] = {
     {"wall/gran", "fix wall/gran/spherocylinder"},
-    {"nve/sphere", "fix nve/spherocylinder"},
     {"nve", "fix nve/spherocylinder"},
-    {"nve/asphere", "fix nve/spherocylinder"},
-    {"multisphere", "atom_style sphere"},
+    {"nve/*", "fix nve/spherocylinder"},
+    {"multisphere*", "rods of their own (this atom style)"},
+    {"insert/*", "create_atoms on a lattice and set_spherocylinder ... axis random"},
+    {"clog", "nothing yet: fix clog finds arches of spheres"},
+    {"check/timestep/gran", "nothing yet: it takes the bounding radius for the grain size"},
   };
   for (int i = 0; i < modify->nfix; i++) {
     const std::string style = modify->fix[i]->style;
-    for (size_t k = 0; k < sizeof(sphere_fixes)/sizeof(sphere_fixes[0]); ++k)
-      if (style == sphere_fixes[k][0])
+    if (style == "nve/spherocylinder") continue;
+    for (size_t k = 0; k < sizeof(sphere_fixes)/sizeof(sphere_fixes[0]); ++k) {
+      const std::string pattern = sphere_fixes[k][0];
+      const bool prefix = pattern[pattern.size() - 1] == '*';
+      const bool matches = prefix ? style.compare(0, pattern.size() - 1, pattern, 0, pattern.size() - 1) == 0
+                                  : style == pattern;
+      if (matches)
         error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(modify->fix[i]->id) + " (" +
                            style + ") treats rods as spheres; use " + sphere_fixes[k][1]).c_str());
-    if (style.compare(0, 7, "insert/") == 0)
-      error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(modify->fix[i]->id) + " (" + style +
-                         ") inserts spheres; place rods with create_atoms and set_spherocylinder").c_str());
+    }
   }
   PairGran *pair = force->pair ? dynamic_cast<PairGran *>(force->pair) : NULL;
   if (force->pair && !pair)
     error->all(FLERR, "atom_style spherocylinder: the pair style must be gran with surface spherocylinder");
-  if (pair && !pair->contact_match("surface", "spherocylinder"))
-    error->all(FLERR, "atom_style spherocylinder: pair_style gran needs 'surface spherocylinder' "
-                      "(the default surface treats rods as their bounding spheres)");
+  if (pair) {
+    const std::string problem = silokit::rod_model_problem(*pair);
+    if (!problem.empty()) error->all(FLERR, ("atom_style spherocylinder: pair_style gran " + problem).c_str());
+  }
 }
 
 /* ---------------------------------------------------------------------- */

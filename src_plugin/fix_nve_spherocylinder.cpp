@@ -18,10 +18,31 @@
 using namespace LAMMPS_NS;
 
 FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
-  FixNVEAsphereBase(lmp, narg, arg)
+  FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg)
 {
   if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec))
     error->fix_error(FLERR, this, "needs atom_style spherocylinder");
+}
+
+/* ----------------------------------------------------------------------
+   FixNVEAsphereBase reads its keyword unchecked (a missing value is read
+   past the arguments, scheme 4 needs CFD coupling and crashes without it,
+   another number stops the first step): check them first.
+------------------------------------------------------------------------- */
+
+int FixNVESpherocylinder::checked_arguments(LAMMPS *lmp, int narg, char **arg)
+{
+  for (int i = 3; i < narg; i += 2) {
+    const std::string keyword = arg[i];
+    if (keyword != "integration_scheme")
+      lmp->error->all(FLERR, ("fix nve/spherocylinder: unknown keyword '" + keyword +
+                              "' (integration_scheme)").c_str());
+    const std::string value = i + 1 < narg ? arg[i + 1] : "";
+    if (value != "0" && value != "1" && value != "2" && value != "3")
+      lmp->error->all(FLERR, "fix nve/spherocylinder: 'integration_scheme' takes 0 (Richardson), "
+                             "1 (no-squish, the default), 2 or 3");
+  }
+  return narg;
 }
 
 void FixNVESpherocylinder::init()

@@ -30,6 +30,9 @@ class FixNVESpherocylinder : public FixNVEAsphereBase {
  public:
   FixNVESpherocylinder(class LAMMPS *, int, char **);
   void init();
+
+ private:
+  static int checked_arguments(class LAMMPS *, int narg, char **arg);
 };
 
 }

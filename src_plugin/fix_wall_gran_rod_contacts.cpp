@@ -20,6 +20,7 @@
 #include "fix_wall_gran_base.h"
 #include "math_extra.h"
 #include "modify.h"
+#include "spherocylinder_model_check.h"
 
 using namespace LAMMPS_NS;
 
@@ -36,8 +37,6 @@ void FixWallGranRodContacts::post_create()
 {
   FixWallGran::post_create();
   if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec)) return;
-  if (meshwall_ != 0)
-    error->fix_error(FLERR, this, "rods (atom_style spherocylinder) touch primitive walls only, not meshes");
   const std::string name = std::string("rod_history_") + id;
   const int values = slots_*slot_size();
   std::vector<std::string> zeros(values, "0.");
@@ -62,9 +61,10 @@ void FixWallGranRodContacts::pre_delete(bool unfixflag)
 void FixWallGranRodContacts::init()
 {
   FixWallGran::init();
-  if (rods() && (!impl || !impl->contact_match("surface", "spherocylinder")))
-    error->fix_error(FLERR, this, "rods need 'surface spherocylinder' in the wall's model "
-                                  "(the default surface treats them as spheres)");
+  if (!rods()) return;
+  if (!impl) error->fix_error(FLERR, this, "rods need a granular contact model");
+  const std::string problem = silokit::rod_model_problem(*impl);
+  if (!problem.empty()) error->fix_error(FLERR, this, ("the wall's model " + problem).c_str());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -131,12 +131,10 @@ void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContac
   double axis[3], half_length, radius;
   rod_of(i, axis, half_length, radius);
 
-  bool taken[16];
-  if (slots_ > 16) error->one(FLERR, "fix wall/gran rods: too many contact slots");
+  // a subclass keeps at least as many slots as its geometry gives contacts
+  bool taken[silokit::max_wall_contacts];
   for (int s = 0; s < slots_; ++s) taken[s] = false;
   int slot_of[silokit::max_wall_contacts];
-  if (contacts.count > slots_)
-    error->one(FLERR, "a rod touches a wall at more points than this wall keeps histories for");
   for (int c = 0; c < contacts.count; ++c) {
     slot_of[c] = take_slot(slots, contacts.contact[c].t, radius, taken);
     taken[slot_of[c]] = true;
@@ -150,6 +148,11 @@ void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContac
   for (int c = 0; c < contacts.count; ++c) {
     const silokit::WallContact &contact = contacts.contact[c];
     double *slot = slots + slot_of[c]*slot_size();
+    // a core point on the wall (rule 10 of spherocylinder_geometry.h) has
+    // no direction the stock wall code could take (it divides by the
+    // distance): reachable only through an overlap of a whole radius, as
+    // for the sphere path of fix wall/gran/rotating
+    if (contact.overlap >= radius) continue;
     slot[0] = 1.0;
     slot[1] = contact.t;
     const double distance = radius - contact.overlap;

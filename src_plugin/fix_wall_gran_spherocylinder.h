@@ -13,7 +13,8 @@
    Each contact has its own tangential history (fix_wall_gran_rod_contacts.h).
    The stock fix wall/gran would treat a rod as its bounding sphere, and
    atom_style spherocylinder refuses it. With spheres this style is the
-   stock fix wall/gran. Documentation: doc/spherocylinder.md.
+   stock fix wall/gran on the same primitives. Documentation:
+   doc/spherocylinder.md.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS

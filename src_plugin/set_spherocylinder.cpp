@@ -74,9 +74,6 @@ void SetSpherocylinder::command(int narg, char **arg)
         const double norm = std::sqrt(axis[0]*axis[0] + axis[1]*axis[1] + axis[2]*axis[2]);
         if (!(norm > 0.0)) error->all(FLERR, "set_spherocylinder: 'axis' must not be the zero vector");
         for (int k = 0; k < 3; ++k) axis[k] /= norm;
-        if (domain->dimension == 2 && axis[1] != 0.0)
-          error->all(FLERR, "set_spherocylinder: with dimension 2 the axis must lie in the x-z plane "
-                            "(y component 0)");
         iarg += 4;
       }
     } else if (keyword == "omega") {
@@ -104,13 +101,9 @@ void SetSpherocylinder::command(int narg, char **arg)
       // per rod, from the seed and its position: the same on any rank count
       random.reset(seed, atom->x[i]);
       const double phi = 2.0*MathConst::MY_PI*random.uniform();
-      if (domain->dimension == 2) {
-        a[0] = std::cos(phi); a[1] = 0.0; a[2] = std::sin(phi);
-      } else {
-        const double cos_theta = 2.0*random.uniform() - 1.0;
-        const double sin_theta = std::sqrt(1.0 - cos_theta*cos_theta);
-        a[0] = sin_theta*std::cos(phi); a[1] = sin_theta*std::sin(phi); a[2] = cos_theta;
-      }
+      const double cos_theta = 2.0*random.uniform() - 1.0;
+      const double sin_theta = std::sqrt(1.0 - cos_theta*cos_theta);
+      a[0] = sin_theta*std::cos(phi); a[1] = sin_theta*std::sin(phi); a[2] = cos_theta;
     } else if (axis_given) {
       for (int k = 0; k < 3; ++k) a[k] = axis[k];
     } else {

@@ -12,10 +12,9 @@
      length L          >= d (L = d: a sphere)
      density rho       > 0
      axis x y z        the same axis for every rod (normalised)
-     axis random seed  uniform on the sphere (in the x-z plane with
-                       `dimension 2`), drawn per rod from the seed and
-                       the rod's position, so the same on any number of
-                       MPI ranks
+     axis random seed  uniform on the sphere, drawn per rod from the
+                       seed (a prime > 10000) and the rod's position, so
+                       the same on any number of MPI ranks
      omega wx wy wz    angular velocity (rad/s, space frame)
 
    The angular momentum, which fix nve/spherocylinder integrates, is

@@ -266,6 +266,9 @@ def test_an_elastic_frictionless_collision_keeps_energy_and_momenta(tmp_path):
 # ---- MPI and restart -------------------------------------------------------------
 
 GAS_DT = 1e-5          # t_c/100 for two rods
+# one create_atoms per rod, so that the ids do not depend on the ranks
+GAS_LATTICE = "\n".join(f"create_atoms 1 single {0.02 + 0.04 * i!r} {0.02 + 0.04 * j!r} {0.02 + 0.04 * k!r} units box"
+                        for k in range(3) for j in range(3) for i in range(3))
 
 
 def gas_deck(steps, extra_before_run=""):
@@ -281,8 +284,7 @@ newton off
 communicate single vel yes
 region box block 0 0.12 0 0.12 0 0.12 units box
 create_box 1 box
-lattice sc 0.04 origin 0.5 0.5 0.5
-create_atoms 1 box
+{GAS_LATTICE}
 set_spherocylinder all diameter {D!r} length {LENGTH!r} density {RHO!r} axis random 15485863
 variable vx atom 2.0*(((x*1009.0+0.3)*7.13)%1.0-0.5)
 variable vy atom 2.0*(((y*997.0+0.7)*5.31)%1.0-0.5)
@@ -358,11 +360,15 @@ write_dump all custom end.dump id x y z vx vy vz omegax omegay omegaz c_axis[1] 
     ("set_spherocylinder all size 3", "unknown keyword 'size'"),
     ("set_spherocylinder nogroup diameter 0.01", "no group 'nogroup'"),
     ("fix twice all nve/sphere", "(nve/sphere) treats rods as spheres; use fix nve/spherocylinder"),
-    ("fix twice all nve/noforce", "also integrates these rods"),
+    ("fix twice all nve/noforce", "(nve/noforce) treats rods as spheres; use fix nve/spherocylinder"),
+    ("fix move2 all nve/spherocylinder integration_scheme 4", "'integration_scheme' takes 0"),
+    ("fix move2 all nve/spherocylinder integration_scheme", "'integration_scheme' takes 0"),
+    ("fix move2 all nve/spherocylinder scheme 1", "unknown keyword 'scheme'"),
+    ("fix check all check/timestep/gran 1000 0.1 0.1", "(check/timestep/gran) treats rods as spheres"),
     ("fix floor all wall/gran model hooke/stiffness tangential history primitive type 1 zplane -0.05",
      "(wall/gran) treats rods as spheres; use fix wall/gran/spherocylinder"),
     ("fix floor all wall/gran/spherocylinder model hooke/stiffness tangential history primitive type 1 zplane -0.05",
-     "rods need 'surface spherocylinder' in the wall's model"),
+     "the wall's model needs 'surface spherocylinder'"),
     ("fix floor all wall/gran/spherocylinder model hooke/stiffness tangential history surface spherocylinder "
      "primitive type 1 xcylinder 0.05 0 0", "primitive 'xcylinder' is not one rods can touch"),
 ])
@@ -376,11 +382,31 @@ def test_bad_input_gets_a_clear_error(tmp_path, line, message):
     assert message in error.value.message
 
 
-def test_a_pair_style_without_the_rod_surface_is_refused(tmp_path):
-    deck = rod_deck([((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0))], steps=1).replace(ROD_MODEL, SPHERE_MODEL)
+@pytest.mark.parametrize("model, message", [
+    (SPHERE_MODEL, "pair_style gran needs 'surface spherocylinder'"),
+    ("model hertz tangential history surface spherocylinder", "rods take 'model hooke/stiffness' only"),
+    ("model hooke/stiffness tangential history rolling_friction epsd2 surface spherocylinder",
+     "rods take no rolling_friction model"),
+])
+def test_a_pair_model_rods_cannot_take_is_refused(tmp_path, model, message):
+    # the properties hertz and epsd2 ask for, so that the run gets to the check
+    properties = ("fix m_y all property/global youngsModulus peratomtype 1e7\n"
+                  "fix m_p all property/global poissonsRatio peratomtype 0.3\n"
+                  "fix m_e all property/global coefficientRestitution peratomtypepair 1 0.9\n"
+                  "fix m_r all property/global coefficientRollingFriction peratomtypepair 1 0.1\n")
+    deck = rod_deck([((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0))], steps=1).replace(ROD_MODEL, model)
+    deck = deck.replace("pair_style gran", properties + "pair_style gran")
     with pytest.raises(LiggghtsError) as error:
         run_liggghts(deck, tmp_path)
-    assert "pair_style gran needs 'surface spherocylinder'" in error.value.message
+    assert message in error.value.message
+
+
+def test_rods_are_for_3d_runs(tmp_path):
+    deck = rod_deck([((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0))], steps=1, boundary="f f p")
+    deck = deck.replace("atom_style spherocylinder", "dimension 2\natom_style spherocylinder")
+    with pytest.raises(LiggghtsError) as error:
+        run_liggghts(deck, tmp_path)
+    assert "for 3D runs (dimension 3) only" in error.value.message
 
 
 def test_the_rod_styles_refuse_sphere_atoms(tmp_path):

@@ -423,3 +423,23 @@ create_atoms 1 single 0 0 0 units box
         with pytest.raises(LiggghtsError) as error:
             run_liggghts(sphere + line + "\nrun 0\n", tmp_path / line.split()[1])
         assert message in error.value.message
+
+
+def test_write_data_and_read_data_keep_the_rods(tmp_path):
+    """write_data writes each rod's diameter, length, density, position
+    and quaternion (Atoms) and its velocity and omega (Velocities);
+    read_data gives back the same rods: axis, mass, inertia, angular
+    momentum (from omega) as the rods written."""
+    rods = [((0, 0, 0), (0.6, 0.0, 0.8), (0.1, -0.2, 0.3), (1.0, 2.0, -3.0)),
+            ((0.05, 0, 0), (0, 1, 0), (0, 0, 0), (0, 0, 40.0))]
+    run_liggghts(rod_deck(rods, steps=0, integrate=False, extra="write_data rods.data"), tmp_path / "write")
+    (_, written), = frames(tmp_path / "write")
+    reread = rod_deck([], steps=0, integrate=False).replace(
+        "create_box 1 box\n", f"read_data {tmp_path / 'write' / 'rods.data'}\n").replace(
+        "region box block -0.1 0.1 -0.1 0.1 -0.1 0.1 units box\n", "")
+    run_liggghts(reread, tmp_path / "read")
+    (_, read), = frames(tmp_path / "read")
+    for name, values in written.items():
+        if name.startswith(("f", "tq")):
+            continue
+        np.testing.assert_allclose(read[name], values, rtol=1e-14, atol=1e-15, err_msg=name)

@@ -55,8 +55,21 @@ FEET_COLUMNS = REQUIRED_COLUMNS["arches.txt"] + ("base", "floor")
 #   resting on its outlet grain alone is an arch grain, one that also
 #   touches the next bottom grain (in the pocket beside it) is not;
 # "feet": both feet are always arch grains.
+# The default is "outlet": with it the PDF of eta peaks at R + 2 = 5 for
+# mu = 0.2, 0.4 and 0.8 (the paper's Fig. 2), with "members" at 2-3
+# (doc/silo2d.md, "Arch size"). Records without feet.txt fall back to
+# "members", and say so.
 READINGS = ("members", "outlet", "feet")
-DEFAULT_READING = "members"
+DEFAULT_READING = "outlet"
+
+
+def default_reading(have_feet):
+    """DEFAULT_READING, or "members" (with a note) for records without feet.txt."""
+    if have_feet:
+        return DEFAULT_READING
+    print(f"silo2d: no feet.txt in these records: the '{DEFAULT_READING}' reading needs it, "
+          "using 'members'", flush=True)
+    return "members"
 
 
 # ---------------------------------------------------------------- statistics
@@ -515,10 +528,11 @@ def parse_args(argv):
     parser.add_argument("--R", type=float, help="outlet size in d; default 3")
     parser.add_argument("--half-width", dest="half_width", type=float, help="silo half width (m); default 16 d")
     parser.add_argument("--phi-bin", dest="phi_bin", type=float, default=10.0, help="phi bin width (deg)")
-    parser.add_argument("--reading", choices=READINGS, default=DEFAULT_READING,
+    parser.add_argument("--reading", choices=READINGS, default=None,
                         help="which grains make the arch: the walk's members between its feet, those and "
                              "the feet that rest on the outlet grain alone, or those and both feet "
-                             f"(doc/silo2d.md; default {DEFAULT_READING})")
+                             f"(doc/silo2d.md; default {DEFAULT_READING}, members for records without "
+                             "feet.txt)")
     parser.add_argument("--bulk", nargs=2, type=float, metavar=("HMIN", "HMAX"),
                         default=(BULK_H_MIN_D, BULK_H_MAX_D),
                         help="bulk window HMIN < h/d < HMAX (default: the paper's 27 48; "
@@ -551,6 +565,8 @@ def main(argv=None):
     tables = read_records(args.record_dir)
     clogs, contacts = tables["clogs"], tables["contacts"]
     feet = read_feet(args.record_dir)
+    if args.reading is None:
+        args.reading = default_reading(feet is not None)
     try:
         arches = arch_grains(tables["arches"], feet, args.reading)
         eta = arch_sizes(clogs, feet, args.reading)

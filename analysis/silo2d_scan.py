@@ -19,7 +19,7 @@ bootstrap over clogs beside it. The surface height of the clogged silo
 (analysis.silo2d.surface_heights; the paper's is 80 d) is given too: the
 bulk window's force depends on its depth.
 
-CLI:  python3 -m analysis.silo2d_scan RUN_DIR [RUN_DIR ...] --out DIR [--reading members]
+CLI:  python3 -m analysis.silo2d_scan RUN_DIR [RUN_DIR ...] --out DIR [--reading outlet|members|feet]
 """
 
 import argparse
@@ -318,8 +318,9 @@ def parse_args(argv):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dirs", type=Path, nargs="+", help="record directories, one per mu")
     parser.add_argument("--out", type=Path, required=True)
-    parser.add_argument("--reading", choices=silo2d.READINGS, default=silo2d.DEFAULT_READING,
-                        help="the reading of the figures other than Fig. 2 (which shows both)")
+    parser.add_argument("--reading", choices=silo2d.READINGS, default=None,
+                        help="the reading of the figures other than Fig. 2 (which shows all); default "
+                             f"{silo2d.DEFAULT_READING}, members for records without feet.txt")
     parser.add_argument("--seed", type=int, default=1, help="bootstrap seed")
     return parser.parse_args(argv)
 
@@ -332,7 +333,10 @@ def main(argv=None):
         print(f"silo2d_scan: reading {directory}", flush=True)
         runs.append(load_run(directory))
     runs.sort(key=lambda run: run["geometry"]["mu"])
-    readings = [r for r in silo2d.READINGS if r == "members" or all(run["feet"] is not None for run in runs)]
+    all_have_feet = all(run["feet"] is not None for run in runs)
+    readings = [r for r in silo2d.READINGS if r == "members" or all_have_feet]
+    if args.reading is None:
+        args.reading = silo2d.default_reading(all_have_feet)
     rng = np.random.default_rng(args.seed)
     rows = []
     for run in runs:

@@ -292,6 +292,24 @@ def test_cli_feet_reading(tmp_path):
     assert result.returncode != 0 and "needs feet.txt" in result.stderr
 
 
+def test_cli_default_reading_is_outlet_and_members_without_feet(tmp_path):
+    """The default reading is 'outlet' (4 grains: the three members and the
+    right foot, on its outlet grain alone); records without feet.txt fall
+    back to 'members' and say so."""
+    write_records(tmp_path)
+    write_feet(tmp_path)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "analysis.silo2d", str(tmp_path), "--out", str(out)]
+    result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "4 arch grains (outlet reading)" in result.stdout
+    (tmp_path / "feet.txt").unlink()
+    result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "no feet.txt in these records" in result.stdout
+    assert "3 arch grains (members reading)" in result.stdout
+
+
 # ------------------------------------------------------------------ statistics of a scan
 
 def test_mean_t_ci_by_hand():

@@ -59,28 +59,37 @@ velocity rod{index} set {vx!r} {vy!r} {vz!r} units box
 """
 
 
-def rod_deck(rods, steps, dump_every=1, gamman=0.0, gammat=0.0, mu=0.5, dt=1e-6,
-             box="-0.1 0.1 -0.1 0.1 -0.1 0.1", boundary="f f f", integrate=True, extra="",
-             style="spherocylinder"):
-    """`rods`: list of (position, axis, velocity, omega). Dumps id, x, v,
-    omega, angmom, force, torque and the axis (c_axis[1..3]) to rods.dump."""
-    atoms = "".join(rod_lines(k + 1, *rod) for k, rod in enumerate(rods))
-    integration = "fix move all nve/spherocylinder" if integrate else ""
+def rod_system(boundary="f f f"):
+    """The opening lines of every rod deck."""
     return f"""units si
-atom_style {style}
+atom_style spherocylinder
 atom_modify map array
 boundary {boundary}
 newton off
-communicate single vel yes
-region box block {box} units box
-create_box 1 box
-{atoms}
-neighbor {0.2 * D!r} bin
+communicate single vel yes"""
+
+
+def rod_contacts(dt, gamman=0.0, gammat=0.0, mu=0.5):
+    """Neighbour list, materials, the rod pair style and the time step."""
+    return f"""neighbor {0.2 * D!r} bin
 neigh_modify delay 0
 {hooke_materials(KN, 2.0 / 7.0 * KN, gamman=gamman, gammat=gammat, mu=mu)}
 pair_style gran {ROD_MODEL}
 pair_coeff * *
-timestep {dt!r}
+timestep {dt!r}"""
+
+
+def rod_deck(rods, steps, dump_every=1, gamman=0.0, gammat=0.0, mu=0.5, dt=1e-6,
+             box="-0.1 0.1 -0.1 0.1 -0.1 0.1", boundary="f f f", integrate=True, extra=""):
+    """`rods`: list of (position, axis, velocity, omega). Dumps id, x, v,
+    omega, angmom, force, torque and the axis (c_axis[1..3]) to rods.dump."""
+    atoms = "".join(rod_lines(k + 1, *rod) for k, rod in enumerate(rods))
+    integration = "fix move all nve/spherocylinder" if integrate else ""
+    return f"""{rod_system(boundary)}
+region box block {box} units box
+create_box 1 box
+{atoms}
+{rod_contacts(dt, gamman, gammat, mu)}
 {integration}
 compute axis all spherocylinder/axis
 dump rods all custom {dump_every} rods.dump id x y z vx vy vz omegax omegay omegaz angmomx angmomy angmomz fx fy fz tqx tqy tqz c_axis[1] c_axis[2] c_axis[3]
@@ -276,12 +285,7 @@ def gas_deck(steps, extra_before_run=""):
     velocities up to 1 m/s from a hash of their positions, colliding for
     `steps` (all of them collide, some across the periodic boundaries and
     the boundary between two ranks' domains)."""
-    return f"""units si
-atom_style spherocylinder
-atom_modify map array
-boundary p p p
-newton off
-communicate single vel yes
+    return f"""{rod_system("p p p")}
 region box block 0 0.12 0 0.12 0 0.12 units box
 create_box 1 box
 {GAS_LATTICE}
@@ -290,12 +294,12 @@ variable vx atom 2.0*(((x*1009.0+0.3)*7.13)%1.0-0.5)
 variable vy atom 2.0*(((y*997.0+0.7)*5.31)%1.0-0.5)
 variable vz atom 2.0*(((z*1013.0+0.1)*3.77)%1.0-0.5)
 velocity all set v_vx v_vy v_vz units box
-neighbor {0.2 * D!r} bin
-neigh_modify delay 0
-{hooke_materials(KN, 2.0 / 7.0 * KN, gamman=20.0, gammat=20.0, mu=0.5)}
-pair_style gran {ROD_MODEL}
-pair_coeff * *
-timestep {GAS_DT!r}
+{gas_run(steps, extra_before_run)}"""
+
+
+def gas_run(steps, extra_before_run=""):
+    """The gas' contacts, integrator and run, and its end state in end.dump."""
+    return f"""{rod_contacts(GAS_DT, gamman=20.0, gammat=20.0)}
 fix move all nve/spherocylinder
 compute axis all spherocylinder/axis
 {extra_before_run}
@@ -330,17 +334,7 @@ atom_modify map array
 read_restart half.restart
 newton off
 communicate single vel yes
-neighbor {0.2 * D!r} bin
-neigh_modify delay 0
-{hooke_materials(KN, 2.0 / 7.0 * KN, gamman=20.0, gammat=20.0, mu=0.5)}
-pair_style gran {ROD_MODEL}
-pair_coeff * *
-timestep {GAS_DT!r}
-fix move all nve/spherocylinder
-compute axis all spherocylinder/axis
-run {steps}
-write_dump all custom end.dump id x y z vx vy vz omegax omegay omegaz c_axis[1] c_axis[2] c_axis[3] modify sort id format "%d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g"
-"""
+{gas_run(steps)}"""
     (tmp_path / "resume").mkdir()
     (tmp_path / "resume" / "half.restart").write_bytes((tmp_path / "half" / "half.restart").read_bytes())
     run_liggghts(resumed, tmp_path / "resume")

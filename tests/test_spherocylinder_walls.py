@@ -15,10 +15,9 @@ import math
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import hooke_materials
 from analysis.lammps_io import read_dump
 from conftest import has_mpirun, run_liggghts
-from test_spherocylinder import D, KN, RADIUS, RHO, ROD_MODEL, rod_lines, solid_rod
+from test_spherocylinder import D, KN, RADIUS, ROD_MODEL, rod_contacts, rod_lines, rod_system, solid_rod
 
 G = 9.81
 WALL_MODEL = ROD_MODEL
@@ -35,21 +34,11 @@ def wall_deck(rods, walls, steps, dt=1e-5, gamman=200.0, gammat=200.0, mu=0.5, g
     every = dump_every or steps
     columns = COLUMNS.split()
     fmt = "%d" + " %.17g" * (len(columns) - 1)
-    return f"""units si
-atom_style spherocylinder
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
+    return f"""{rod_system()}
 region box block {box} units box
 create_box 1 box
 {atoms}
-neighbor {0.2 * D!r} bin
-neigh_modify delay 0
-{hooke_materials(KN, 2.0 / 7.0 * KN, gamman=gamman, gammat=gammat, mu=mu)}
-pair_style gran {ROD_MODEL}
-pair_coeff * *
-timestep {dt!r}
+{rod_contacts(dt, gamman, gammat, mu)}
 {walls}
 {"fix gravity all gravity 9.81 vector 0 0 -1" if gravity else ""}
 fix move all nve/spherocylinder

@@ -10,7 +10,9 @@
    (Miller et al. 2002, integration_scheme 1); 0 is Richardson's
    iteration. The integrator reads the body-frame inertia and the
    quaternion of atom_style spherocylinder and keeps omega consistent with
-   the angular momentum. Documentation: doc/spherocylinder.md.
+   the angular momentum. A time step above a tenth of the contact time of
+   two rods crossing at their ends warns. Documentation:
+   doc/spherocylinder.md.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -33,6 +35,7 @@ class FixNVESpherocylinder : public FixNVEAsphereBase {
 
  private:
   static int checked_arguments(class LAMMPS *, int narg, char **arg);
+  void warn_if_time_step_is_coarse();
 };
 
 }

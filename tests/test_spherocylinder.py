@@ -437,3 +437,19 @@ def test_write_data_and_read_data_keep_the_rods(tmp_path):
         if name.startswith(("f", "tq")):
             continue
         np.testing.assert_allclose(read[name], values, rtol=1e-14, atol=1e-15, err_msg=name)
+
+
+def test_a_time_step_above_a_tenth_of_the_end_contact_time_warns(tmp_path):
+    """Two rods crossing at the ends of their cores: 1/m_eff = 2 (1/m +
+    h^2/I_t), t_c = pi sqrt(m_eff/k_n) (written out here from the solid's
+    closed forms). A step of t_c/5 warns and names t_c; one of t_c/20
+    does not."""
+    mass, _, transverse = solid_rod()
+    contact_time = math.pi * math.sqrt(0.5 / (1 / mass + HALF_SEGMENT ** 2 / transverse) / KN)
+    rods = [((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0))]
+    coarse = run_liggghts(rod_deck(rods, steps=1, dt=contact_time / 5), tmp_path / "coarse")
+    warning = [line for line in coarse.splitlines() if "fix nve/spherocylinder: the time step" in line]
+    assert len(warning) == 1
+    assert f"t_c = {contact_time:.6g} s" in warning[0] and "20.0%" in warning[0]
+    fine = run_liggghts(rod_deck(rods, steps=1, dt=contact_time / 20), tmp_path / "fine")
+    assert "fix nve/spherocylinder: the time step" not in fine

@@ -532,6 +532,28 @@ inline void closest_points_of_segments(const double *c1, const double *a1, doubl
     rod_detail::closest_points_in_given_order(c1, a1, h1, c2, a2, h2, t1, t2);
 }
 
+// Whether the cores c1 + t1 a1 and c2 + t2 a2 come closer than `reach`
+// (the sum of the radii: whether the rods touch). The pairs LIGGGHTS
+// lists are those whose bounding spheres overlap, most of which do not
+// touch, so the cheap test comes first: skew cores are at least as far
+// apart as their lines, |(c1 - c2).(a1 x a2)|/|a1 x a2|. Symmetric in the
+// two rods to the last bit (both terms change sign together; rule 3).
+inline bool cores_within(const double *c1, const double *a1, double h1,
+                         const double *c2, const double *a2, double h2, double reach)
+{
+  double offset[3], normal[3];
+  for (int j = 0; j < 3; ++j) offset[j] = c1[j] - c2[j];
+  rod_detail::cross(a1, a2, normal);
+  const double sine_squared = rod_detail::dot(normal, normal);
+  if (sine_squared > rod_detail::parallel_sine_squared) {
+    const double line_gap = rod_detail::dot(offset, normal);
+    if (line_gap*line_gap >= reach*reach*sine_squared) return false;
+  }
+  double t1, t2;
+  closest_points_of_segments(c1, a1, h1, c2, a2, h2, t1, t2);
+  return rod_detail::squared_distance(c1, a1, t1, c2, a2, t2) < reach*reach;
+}
+
 // Rules 1-5: the contact of rod 1 (c1, a1, h1, radius r1) with rod 2.
 inline RodContact rod_contact(const double *c1, const double *a1, double h1, double r1,
                               const double *c2, const double *a2, double h2, double r2)

@@ -18,13 +18,17 @@
    also take the torque arms from sidata.contact_point, which for a rod is
    not on the line of centres.
 
+   - beginPass (once per force evaluation): the axis of every rod, local
+     and ghost, from its quaternion, so that each of the many pairs of the
+     list does not compute it again.
    - checkSurfaceIntersect (the narrow phase after the bounding-sphere
-     test of PairGranBase): closest points of the two core segments
-     (spherocylinder_geometry.h); touching when their distance is below
-     the sum of the rods' radii. The pair is taken in the order of the
-     atom tags, so that the two ranks that compute a pair crossing a
-     processor boundary (newton off, as history needs) find the same
-     points to the last bit.
+     test of PairGranBase): whether the core segments come closer than
+     the sum of the rods' radii (cores_within: most listed pairs are
+     rejected by the distance of their lines alone), then, for a pair
+     that touches, the contact (spherocylinder_geometry.h). The pair is
+     taken in the order of the atom tags, so that the two ranks that
+     compute a pair crossing a processor boundary (newton off, as history
+     needs) find the same points to the last bit.
    - surfacesIntersect: en, deltan and the contact point (on the line of
      closest points, half the overlap inside rod j's surface: for equal
      radii the midpoint of the two closest core points) are set again
@@ -49,6 +53,8 @@ SURFACE_MODEL(SURFACE_SPHEROCYLINDER,spherocylinder,7)
 #include "error.h"
 #include "math_extra.h"
 #include "spherocylinder_geometry.h"
+
+#include <vector>
 
 #ifndef NONSPHERICAL_ACTIVE_FLAG
 #error "surface spherocylinder needs NONSPHERICAL_ACTIVE_FLAG (see CMakeLists.txt)"
@@ -79,12 +85,12 @@ namespace ContactModels
       // first the rod of the lower tag
       const bool swapped = atom->tag[i] > atom->tag[j];
       const int first = swapped ? j : i, second = swapped ? i : j;
-      double centre1[3], axis1[3], centre2[3], axis2[3];
-      rod_axis(first, centre1, axis1);
-      rod_axis(second, centre2, axis2);
-      const silokit::RodContact contact = silokit::rod_contact(
-          centre1, axis1, half_segment(first), radius_of(first),
-          centre2, axis2, half_segment(second), radius_of(second));
+      const double *centre1 = atom->x[first], *axis1 = &axes_[3*first];
+      const double *centre2 = atom->x[second], *axis2 = &axes_[3*second];
+      const double h1 = half_segment(first), h2 = half_segment(second);
+      const double r1 = radius_of(first), r2 = radius_of(second);
+      if (!silokit::cores_within(centre1, axis1, h1, centre2, axis2, h2, r1 + r2)) return false;
+      const silokit::RodContact contact = silokit::rod_contact(centre1, axis1, h1, r1, centre2, axis2, h2, r2);
       if (contact.overlap <= 0.0) return false;
       // en from j to i, as for spheres
       const double sign = swapped ? -1.0 : 1.0;
@@ -136,19 +142,21 @@ namespace ContactModels
 
     void endSurfacesIntersect(SurfacesIntersectData &, TriMesh *, double * const) {}
     void surfacesClose(SurfacesCloseData &, ForceData &, ForceData &) {}
-    void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+    void beginPass(SurfacesIntersectData &, ForceData &, ForceData &)
+    {
+      const int all = atom->nlocal + atom->nghost;
+      axes_.resize(3*static_cast<size_t>(all));
+      double ey[3], ez[3];
+      for (int i = 0; i < all; ++i) MathExtra::q_to_exyz(atom->quaternion[i], &axes_[3*i], ey, ez);
+    }
     void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
     void tally_pp(double, int, int, int) {}
     void tally_pw(double, int, int, int) {}
 
   private:
-    // the rod's axis (body x) in space and its centre
-    void rod_axis(int i, double *centre, double *axis) const
-    {
-      double ey[3], ez[3];
-      MathExtra::q_to_exyz(atom->quaternion[i], axis, ey, ez);
-      for (int k = 0; k < 3; ++k) centre[k] = atom->x[i][k];
-    }
+    // the axis (body x) of every local and ghost rod, 3 per atom, from the
+    // quaternions at the start of the force evaluation (beginPass)
+    std::vector<double> axes_;
     // shape holds the half extents L/2, d/2, d/2
     double radius_of(int i) const { return atom->shape[i][1]; }
     double half_segment(int i) const { return atom->shape[i][0] - atom->shape[i][1]; }

@@ -7,6 +7,7 @@
 //   segments c1 a1 h1 c2 a2 h2                     segments t1 t2
 //   rod_contact <rod 1> <rod 2>                    rod_contact t1 t2 distance overlap
 //                                                    separation(3) normal(3) point(3)
+//   within <rod 1> <rod 2>                         within 1|0 (cores_within, reach r1 + r2)
 //   plane <rod> p0 n                               contacts <n> then, per contact,
 //   cylinder <rod> axis_point axis Rc                t wall_point(3) normal(3) overlap
 //   plate <rod> centre axis R
@@ -101,6 +102,9 @@ bool run(std::istream &in, const std::string &command)
   } else if (command == "rod_contact") {
     if (!read_numbers(in, 16, v)) return false;
     rod_contact(v);
+  } else if (command == "within") {     // rod 1 (8), rod 2 (8)
+    if (!read_numbers(in, 16, v)) return false;
+    std::printf("within %d\n", silokit::cores_within(v, v + 3, v[6], v + 8, v + 11, v[14], v[7] + v[15]) ? 1 : 0);
   } else if (command == "plane") {      // rod(8) p0(3) n(3)
     if (!read_numbers(in, 14, v)) return false;
     print_wall_contacts(silokit::rod_plane_contacts(v, v + 3, v[6], v[7], v + 8, v + 11));

@@ -115,6 +115,9 @@ class Driver:
         return [RodContact(*row[:4], np.array(row[4:7]), np.array(row[7:10]), np.array(row[10:13]))
                 for row in rows]
 
+    def within(self, pairs):
+        return [row[0] == 1.0 for row in self.run([f"within {rod_words(a)} {rod_words(b)}" for a, b in pairs])]
+
     def plane_contacts(self, rods, point, normal):
         return self._wall([f"plane {rod_words(rod)} {words(point, normal)}" for rod in rods])
 
@@ -430,6 +433,31 @@ def test_degenerate_segments(driver):
 def random_rod(generator, radius=0.25, degenerate_fraction=0.1):
     half_length = 0.0 if generator.random() < degenerate_fraction else generator.uniform(0.05, 1.5)
     return Rod(generator.uniform(-1.5, 1.5, 3), generator.normal(size=3), half_length, radius)
+
+
+def test_the_quick_touch_test_agrees_with_brute_force(driver):
+    """cores_within (the line-distance rejection, then the closest points)
+    says two rods touch exactly when the brute-force distance of their
+    cores is below the sum of the radii; pairs are drawn near touching
+    (radii from 0.1 to 1.2), and both answers occur often."""
+    generator = np.random.default_rng(20261124)
+    pairs = []
+    for _ in range(400):
+        rod1, rod2 = random_rod(generator), random_rod(generator)
+        rod1 = Rod(rod1.centre, rod1.axis, rod1.half_length, generator.uniform(0.1, 1.2))
+        rod2 = Rod(rod2.centre, rod2.axis, rod2.half_length, generator.uniform(0.1, 1.2))
+        pairs.append((rod1, rod2))
+    answers = driver.within(pairs)
+    swapped = driver.within([(b, a) for a, b in pairs])
+    assert answers == swapped
+    touching = 0
+    for (rod1, rod2), within in zip(pairs, answers):
+        _, _, distance = brute_force_closest(rod1, rod2)
+        reach = rod1.radius + rod2.radius
+        if abs(distance - reach) > 1e-6:      # the brute force resolves the distance to ~1e-8
+            assert within == (distance < reach)
+        touching += within
+    assert 80 < touching < 320
 
 
 def test_random_segments_match_brute_force(driver):

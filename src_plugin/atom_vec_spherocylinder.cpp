@@ -161,32 +161,39 @@ void AtomVecSpherocylinder::copy(int i, int j, int delflag)
 
 int AtomVecSpherocylinder::pack_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
-  int m = AtomVecSphere::pack_comm(n, list, buf, pbc_flag, pbc);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[list[i]][k];
-  return m;
+  const int m = AtomVecSphere::pack_comm(n, list, buf, pbc_flag, pbc);
+  return m + pack_quaternions(n, list, &buf[m]);
 }
 
 int AtomVecSpherocylinder::pack_comm_vel(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
-  int m = AtomVecSphere::pack_comm_vel(n, list, buf, pbc_flag, pbc);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[list[i]][k];
-  return m;
+  const int m = AtomVecSphere::pack_comm_vel(n, list, buf, pbc_flag, pbc);
+  return m + pack_quaternions(n, list, &buf[m]);
 }
 
 void AtomVecSpherocylinder::unpack_comm(int n, int first, double *buf)
 {
   AtomVecSphere::unpack_comm(n, first, buf);
-  int m = n*SPHERE_COMM;
-  for (int i = first; i < first + n; ++i)
-    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
+  unpack_quaternions(n, first, &buf[n*SPHERE_COMM]);
 }
 
 void AtomVecSpherocylinder::unpack_comm_vel(int n, int first, double *buf)
 {
   AtomVecSphere::unpack_comm_vel(n, first, buf);
-  int m = n*SPHERE_COMM_VEL;
+  unpack_quaternions(n, first, &buf[n*SPHERE_COMM_VEL]);
+}
+
+int AtomVecSpherocylinder::pack_quaternions(int n, const int *list, double *buf) const
+{
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[list[i]][k];
+  return m;
+}
+
+void AtomVecSpherocylinder::unpack_quaternions(int n, int first, const double *buf)
+{
+  int m = 0;
   for (int i = first; i < first + n; ++i)
     for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
 }
@@ -198,23 +205,13 @@ void AtomVecSpherocylinder::unpack_comm_vel(int n, int first, double *buf)
 
 int AtomVecSpherocylinder::pack_border(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
-  int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const int j = list[i];
-    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[j][k];
-    for (int k = 0; k < 3; ++k) buf[m++] = shape[j][k];
-  }
+  const int m = pack_rod_border(n, list, buf);
   return m + AtomVecSphere::pack_border(n, list, &buf[m], pbc_flag, pbc);
 }
 
 int AtomVecSpherocylinder::pack_border_vel(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
-  int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const int j = list[i];
-    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[j][k];
-    for (int k = 0; k < 3; ++k) buf[m++] = shape[j][k];
-  }
+  const int m = pack_rod_border(n, list, buf);
   return m + AtomVecSphere::pack_border_vel(n, list, &buf[m], pbc_flag, pbc);
 }
 
@@ -222,16 +219,28 @@ void AtomVecSpherocylinder::unpack_border(int n, int first, double *buf)
 {
   // the sphere's part first: it grows the arrays for the new ghosts
   AtomVecSphere::unpack_border(n, first, &buf[n*ROD_BORDER]);
-  int m = 0;
-  for (int i = first; i < first + n; ++i) {
-    for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];
-    for (int k = 0; k < 3; ++k) shape[i][k] = buf[m++];
-  }
+  unpack_rod_border(n, first, buf);
 }
 
 void AtomVecSpherocylinder::unpack_border_vel(int n, int first, double *buf)
 {
   AtomVecSphere::unpack_border_vel(n, first, &buf[n*ROD_BORDER]);
+  unpack_rod_border(n, first, buf);
+}
+
+int AtomVecSpherocylinder::pack_rod_border(int n, const int *list, double *buf) const
+{
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = list[i];
+    for (int k = 0; k < 4; ++k) buf[m++] = quaternion[j][k];
+    for (int k = 0; k < 3; ++k) buf[m++] = shape[j][k];
+  }
+  return m;
+}
+
+void AtomVecSpherocylinder::unpack_rod_border(int n, int first, const double *buf)
+{
   int m = 0;
   for (int i = first; i < first + n; ++i) {
     for (int k = 0; k < 4; ++k) quaternion[i][k] = buf[m++];

@@ -84,6 +84,12 @@ class AtomVecSpherocylinder : public AtomVecSphere {
   static const int ROD_COMM = 4, ROD_BORDER = 7, ROD_ALL = 13;
 
   void refuse_sphere_only_styles();
+  // the rods' part of forward communication (quaternions) and of borders
+  // (quaternions and shapes), for the plain and the velocity variants
+  int pack_quaternions(int n, const int *list, double *buf) const;
+  void unpack_quaternions(int n, int first, const double *buf);
+  int pack_rod_border(int n, const int *list, double *buf) const;
+  void unpack_rod_border(int n, int first, const double *buf);
   int pack_rod_all(int i, double *buf) const;
   int unpack_rod_all(int i, const double *buf);
   void angmom_from_omega(int i);

@@ -18,7 +18,6 @@
 #include "error.h"
 #include "fix_property_atom.h"
 #include "fix_wall_gran_base.h"
-#include "math_extra.h"
 #include "modify.h"
 #include "spherocylinder_model_check.h"
 
@@ -71,8 +70,7 @@ void FixWallGranRodContacts::init()
 
 void FixWallGranRodContacts::rod_of(int i, double *axis, double &half_length, double &radius) const
 {
-  double ey[3], ez[3];
-  MathExtra::q_to_exyz(atom->quaternion[i], axis, ey, ez);
+  static_cast<AtomVecSpherocylinder *>(atom->avec)->axis_of(i, axis);
   radius = atom->shape[i][1];
   half_length = atom->shape[i][0] - radius;
 }

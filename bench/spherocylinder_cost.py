@@ -184,6 +184,16 @@ def walls(shape):
 INTEGRATOR = {"rod": "fix integrate all nve/spherocylinder\n",
               "sphere": "fix integrate all nve/sphere\n",
               "clump": "fix ms all multisphere\n"}
+# the rods as they were before the symmetric-top scheme and the pruned
+# list (commit d5a97bb), measured in the same run: name -> (label, integrator)
+ROD_VARIANTS = {
+    "rod_no_squish": ("rods, no-squish rotation (integration_scheme 1)",
+                      "fix integrate all nve/spherocylinder integration_scheme 1\n"),
+    "rod_whole_list": ("rods, the whole list (prune_list no)",
+                       "fix integrate all nve/spherocylinder prune_list no\n"),
+    "rod_before": ("rods, both (no-squish, whole list)",
+                   "fix integrate all nve/spherocylinder integration_scheme 1 prune_list no\n"),
+}
 
 
 class Bed:
@@ -309,8 +319,9 @@ write_restart bed.restart
                                           f"see {self.dir / 'screen.txt'}")
         benchlib.progress(f"{self.shape} bed: settled in {result['cpu']:.0f} s CPU")
 
-    def measure_deck(self, steps, rebuild_every_step=False, extra=""):
-        """From the restart: the same walls, law and integrator, `run steps`."""
+    def measure_deck(self, steps, rebuild_every_step=False, extra="", integrator=None):
+        """From the restart: the same walls, law and integrator (or
+        `integrator`), `run steps`."""
         neigh = "neigh_modify every 1 delay 0 check no" if rebuild_every_step else "neigh_modify delay 0"
         return f"""# bench/spherocylinder_cost.py: {self.count} {self.shape}s, settled bed
 atom_modify map array
@@ -320,7 +331,7 @@ communicate single vel yes
 neighbor {self.skin!r} bin
 {neigh}
 {materials(self.law, self.model)}{walls(self.shape)}fix gravity all gravity {G!r} vector 0 0 -1
-{INTEGRATOR[self.shape]}timestep {self.grains.dt!r}
+{integrator or INTEGRATOR[self.shape]}timestep {self.grains.dt!r}
 thermo_style custom step atoms ke
 thermo {max(steps, 1)}
 thermo_modify lost ignore norm no
@@ -578,6 +589,11 @@ def bed_measurements(beds, rebuild_steps, before=None):
         items[shape] = (f"({'c' if shape == 'clump' else 'b'}) {shape} bed", bed.measure_deck, benchlib.OUR_BINARY)
         if shape == "sphere" and before:
             items["sphere_before"] = ("(a) sphere bed of (b), before", bed.measure_deck, before)
+        if shape == "rod":
+            for name, (label, integrator) in ROD_VARIANTS.items():
+                items[name] = (f"(b) rod bed, {label}",
+                               lambda n, bed=bed, integrator=integrator: bed.measure_deck(n, integrator=integrator),
+                               benchlib.OUR_BINARY)
         if rebuild_steps:
             items[f"{shape}_rebuild"] = (f"({'c' if shape == 'clump' else 'b'}) {shape} bed, a build every step",
                                          lambda n, bed=bed: bed.measure_deck(n, rebuild_every_step=True),
@@ -727,23 +743,32 @@ def bed_section(results, failures, beds, grains, args):
     labels = {"rod": "rods (ours)", "sphere": "spheres d*",
               "clump": f"clumps of {grains.clump_spheres} spheres (fix multisphere)"}
     min_tc = {shape: min(t for s, _, t in grains.times if s == shape) for shape in labels}
-    for shape in ("rod", "sphere", "clump"):
-        if shape not in results:
-            lines.append(f"| {labels[shape]} | failed: {failures[shape].splitlines()[0][:200]} |||||||")
+    labels.update({name: label for name, (label, _) in ROD_VARIANTS.items()})
+    rows = ["rod", *ROD_VARIANTS, "sphere", "clump"]
+
+    def kind(row):
+        return "rod" if row in ROD_VARIANTS else row
+
+    for row in rows:
+        shape = kind(row)
+        if row not in results:
+            if row in failures or shape in failures:
+                problem = failures.get(row, failures.get(shape))
+                lines.append(f"| {labels[row]} | failed: {problem.splitlines()[0][:200]} |||||||")
             continue
-        result, bed = results[shape], beds[shape]
+        result, bed = results[row], beds[shape]
         per = result["per_step"] / n
         counts = bed.counts
         contacts = f"{counts['contacts']:.2f}"
         if shape == "clump":
             contacts += f" sphere contacts ({counts['clump_contacts']:.2f} clumps touched)"
-        rebuild = results.get(f"{shape}_rebuild")
+        rebuild = results.get(f"{row}_rebuild")
         per_build = (rebuild["per_step"] - result["per_step"]) / n if rebuild else None
         # cost of a simulated second at dt = (own shortest t_c) / DT_FRACTION
         per_second = (result["per_step"] / (min_tc[shape] / DT_FRACTION))
         per_second_sphere = (sphere["per_step"] / (min_tc["sphere"] / DT_FRACTION)) if sphere else None
         lines.append(
-            f"| {labels[shape]} | {thousands(per)} | "
+            f"| {labels[row]} | {thousands(per)} | "
             f"{fmt(result['per_step'] / sphere['per_step']) if sphere else '—'} | "
             f"{fmt(result['per_step'] / rod['per_step']) if rod else '—'} | "
             f"{result['neighbours'] / n:.2f} | {fmt(counts['broad'])} | {contacts} | {thousands(per_build)} | "
@@ -753,13 +778,13 @@ def bed_section(results, failures, beds, grains, args):
               "`Modify::post_force` (walls, gravity), `Neighbor::decide` + `build`):", "",
               "| grains | pair loop | integration | walls, gravity | neighbour lists | other "
               "| pair loop per list pair | pair loop per contact |", "|---|---|---|---|---|---|---|---|"]
-    for shape in ("rod", "sphere", "clump"):
-        if shape not in results:
+    for row in rows:
+        if row not in results:
             continue
-        result, bed = results[shape], beds[shape]
+        result, bed = results[row], beds[kind(row)]
         parts = {k: v / n for k, v in result["parts"].items()}
         contacts = bed.counts["contacts"] * n
-        lines.append(f"| {labels[shape]} | {thousands(parts['pair'])} | {thousands(parts['integration'])} | "
+        lines.append(f"| {labels[row]} | {thousands(parts['pair'])} | {thousands(parts['integration'])} | "
                      f"{thousands(parts['post_force'])} | {thousands(parts['neighbour'])} | "
                      f"{thousands(parts['other'])} | "
                      f"{thousands(result['parts']['pair'] / result['neighbours'])} | "
@@ -836,7 +861,8 @@ def wall_section(seconds, atoms, args):
                      f"{1e6 * median / atoms[name]:.4g} |")
     lines.append("")
     for a, b in (("falling_after", "falling_before"), ("settled_after", "settled_before"),
-                 ("sphere", "sphere_before"), ("rod", "sphere"), ("clump", "rod")):
+                 ("sphere", "sphere_before"), ("rod", "sphere"), ("rod_before", "sphere"),
+                 ("rod", "rod_before"), ("clump", "rod")):
         if a in seconds and b in seconds:
             lines.append(f"- {a} / {b}: **{ratios(a, b)}**")
     lines += ["", benchlib.provenance()]

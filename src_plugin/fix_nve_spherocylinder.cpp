@@ -15,6 +15,7 @@
 #include "error.h"
 #include "fix_property_global.h"
 #include "math_const.h"
+#include "math_extra.h"
 #include "modify.h"
 #include "update.h"
 
@@ -25,10 +26,32 @@
 using namespace LAMMPS_NS;
 
 FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
-  FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg)
+  FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg),
+  symmetric_top_(symmetric_top_keyword(narg, arg)),
+  pruning_(NULL)
 {
   if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec))
     error->fix_error(FLERR, this, "needs atom_style spherocylinder");
+  if (prune_list_keyword(narg, arg)) {
+    pruning_ = new SpherocylinderListPruning(lmp);
+    // the builds a turning rod needs: Neighbor::decide checks next_reneighbor
+    force_reneighbor = 1;
+    next_reneighbor = -1;
+  }
+  vector_flag = 1;
+  size_vector = 3;
+  global_freq = 1;
+  extvector = 0;
+}
+
+FixNVESpherocylinder::~FixNVESpherocylinder()
+{
+  delete pruning_;
+}
+
+int FixNVESpherocylinder::setmask()
+{
+  return FixNVEAsphereBase::setmask() | FixConst::PRE_FORCE;
 }
 
 /* ----------------------------------------------------------------------
@@ -41,15 +64,48 @@ int FixNVESpherocylinder::checked_arguments(LAMMPS *lmp, int narg, char **arg)
 {
   for (int i = 3; i < narg; i += 2) {
     const std::string keyword = arg[i];
-    if (keyword != "integration_scheme")
-      lmp->error->all(FLERR, ("fix nve/spherocylinder: unknown keyword '" + keyword +
-                              "' (integration_scheme)").c_str());
     const std::string value = i + 1 < narg ? arg[i + 1] : "";
-    if (value != "0" && value != "1" && value != "2" && value != "3")
-      lmp->error->all(FLERR, "fix nve/spherocylinder: 'integration_scheme' takes 0 (Richardson), "
-                             "1 (no-squish, the default), 2 or 3");
+    if (keyword == "integration_scheme") {
+      if (value != "symmetric_top" && value != "0" && value != "1" && value != "2" && value != "3")
+        lmp->error->all(FLERR, "fix nve/spherocylinder: 'integration_scheme' takes symmetric_top "
+                               "(the default), 0 (Richardson), 1 (no-squish), 2 or 3");
+    } else if (keyword == "prune_list") {
+      if (value != "yes" && value != "no")
+        lmp->error->all(FLERR, "fix nve/spherocylinder: 'prune_list' takes yes (the default) or no");
+    } else {
+      lmp->error->all(FLERR, ("fix nve/spherocylinder: unknown keyword '" + keyword +
+                              "' (integration_scheme, prune_list)").c_str());
+    }
   }
-  return narg;
+  // FixNVEAsphereBase knows its numbered integration_scheme only: hand it
+  // those pairs first and stop its reading before the others (the order
+  // of the arguments is ours to change: Fix has copied id, group, style)
+  int base_arguments = 3;
+  for (int i = 3; i < narg; i += 2) {
+    if (std::string(arg[i]) != "integration_scheme" || std::string(arg[i + 1]) == "symmetric_top")
+      continue;
+    std::swap(arg[base_arguments], arg[i]);
+    std::swap(arg[base_arguments + 1], arg[i + 1]);
+    base_arguments += 2;
+  }
+  return base_arguments;
+}
+
+bool FixNVESpherocylinder::symmetric_top_keyword(int narg, char **arg)
+{
+  bool symmetric_top = true;
+  for (int i = 3; i + 1 < narg; i += 2)
+    if (std::string(arg[i]) == "integration_scheme")
+      symmetric_top = std::string(arg[i + 1]) == "symmetric_top";
+  return symmetric_top;
+}
+
+bool FixNVESpherocylinder::prune_list_keyword(int narg, char **arg)
+{
+  bool prune = true;
+  for (int i = 3; i + 1 < narg; i += 2)
+    if (std::string(arg[i]) == "prune_list") prune = std::string(arg[i + 1]) == "yes";
+  return prune;
 }
 
 void FixNVESpherocylinder::init()
@@ -69,6 +125,128 @@ void FixNVESpherocylinder::init()
                                    ") also integrates these rods: use only nve/spherocylinder").c_str());
   }
   warn_if_time_step_is_coarse();
+}
+
+void FixNVESpherocylinder::initial_integrate(int vflag)
+{
+  if (pruning_) pruning_->before_move(groupbit);
+  if (symmetric_top_) symmetric_top_first_half();
+  else FixNVEAsphereBase::initial_integrate(vflag);
+  // Neighbor::decide runs after the integration, in this step
+  if (pruning_ && pruning_->after_move(groupbit)) next_reneighbor = update->ntimestep;
+}
+
+void FixNVESpherocylinder::final_integrate()
+{
+  if (symmetric_top_) symmetric_top_second_half();
+  else FixNVEAsphereBase::final_integrate();
+}
+
+/* ----------------------------------------------------------------------
+   integration_scheme symmetric_top. A rod is a symmetric top: moments
+   I_a about its axis u (body x), I_t across it. Its angular velocity
+   follows from the space-frame angular momentum L as
+     omega = L/I_t + (1/I_a - 1/I_t) (L.u) u,
+   and without torque L is constant and the motion is known exactly: u
+   turns about L at |L|/I_t (the u-part of omega does not move u), while
+   the body spins about u at (L.u)(1/I_a - 1/I_t). So a step is
+     L += dt/2 torque; x += dt v (v kicked likewise);
+     q <- rotation about L by |L| dt/I_t  *  q  *  rotation about body x
+          by (L.u)(1/I_a - 1/I_t) dt;
+     (forces) L += dt/2 torque; omega from L and the new u.
+   The two rotations commute (one about a space axis, the other about
+   a body axis): this is the free flow of the top, not an approximation.
+------------------------------------------------------------------------- */
+
+namespace {
+
+// omega of a symmetric top with moments axial = I_a, transverse = I_t
+void top_omega(const double *angmom, const double *axis, double axial, double transverse,
+               double *omega)
+{
+  const double along = angmom[0]*axis[0] + angmom[1]*axis[1] + angmom[2]*axis[2];
+  const double extra = along*(1.0/axial - 1.0/transverse);
+  for (int k = 0; k < 3; ++k) omega[k] = angmom[k]/transverse + extra*axis[k];
+}
+
+}  // namespace
+
+void FixNVESpherocylinder::symmetric_top_first_half()
+{
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
+  double **quat = atom->quaternion, **inertia = atom->inertia;
+  const double *rmass = atom->rmass;
+  const int *mask = atom->mask;
+  const int nlocal = igroup == atom->firstgroup ? atom->nfirst : atom->nlocal;
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    const double dtfm = dtf/rmass[i];
+    for (int k = 0; k < 3; ++k) {
+      v[i][k] += dtfm*f[i][k];
+      x[i][k] += dtv*v[i][k];
+      angmom[i][k] += dtf*torque[i][k];
+    }
+    const double axial = inertia[i][0], transverse = inertia[i][1];
+    double axis[3], ey[3], ez[3];
+    MathExtra::q_to_exyz(quat[i], axis, ey, ez);
+    const double along = angmom[i][0]*axis[0] + angmom[i][1]*axis[1] + angmom[i][2]*axis[2];
+    const double size = std::sqrt(angmom[i][0]*angmom[i][0] + angmom[i][1]*angmom[i][1] +
+                                  angmom[i][2]*angmom[i][2]);
+    double turned[4];
+    if (size > 0.0) {
+      const double direction[3] = {angmom[i][0]/size, angmom[i][1]/size, angmom[i][2]/size};
+      double precession[4], spin[4], spun[4];
+      const double body_x[3] = {1.0, 0.0, 0.0};
+      MathExtra::axisangle_to_quat(direction, size/transverse*dtv, precession);
+      MathExtra::axisangle_to_quat(body_x, along*(1.0/axial - 1.0/transverse)*dtv, spin);
+      MathExtra::quatquat(quat[i], spin, spun);
+      MathExtra::quatquat(precession, spun, turned);
+      MathExtra::qnormalize(turned);
+      for (int k = 0; k < 4; ++k) quat[i][k] = turned[k];
+      MathExtra::q_to_exyz(quat[i], axis, ey, ez);
+    }
+    top_omega(angmom[i], axis, axial, transverse, omega[i]);
+  }
+}
+
+void FixNVESpherocylinder::symmetric_top_second_half()
+{
+  double **v = atom->v, **f = atom->f;
+  double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
+  double **quat = atom->quaternion, **inertia = atom->inertia;
+  const double *rmass = atom->rmass;
+  const int *mask = atom->mask;
+  const int nlocal = igroup == atom->firstgroup ? atom->nfirst : atom->nlocal;
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    const double dtfm = dtf/rmass[i];
+    for (int k = 0; k < 3; ++k) {
+      v[i][k] += dtfm*f[i][k];
+      angmom[i][k] += dtf*torque[i][k];
+    }
+    double axis[3], ey[3], ez[3];
+    MathExtra::q_to_exyz(quat[i], axis, ey, ez);
+    top_omega(angmom[i], axis, inertia[i][0], inertia[i][1], omega[i]);
+  }
+}
+
+void FixNVESpherocylinder::setup_pre_force(int vflag)
+{
+  pre_force(vflag);
+}
+
+void FixNVESpherocylinder::pre_force(int)
+{
+  if (pruning_) pruning_->prune_after_build();
+}
+
+double FixNVESpherocylinder::compute_vector(int n)
+{
+  if (!pruning_) return 0.0;
+  if (n == 0) return pruning_->pairs_listed();
+  if (n == 1) return pruning_->pairs_kept();
+  return pruning_->builds_asked();
 }
 
 /* ----------------------------------------------------------------------

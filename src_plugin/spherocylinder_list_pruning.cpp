@@ -14,6 +14,7 @@
 
 #include "atom.h"
 #include "atom_vec_spherocylinder.h"
+#include "contact_model_constants.h"
 #include "force.h"
 #include "mpi.h"
 #include "neigh_list.h"
@@ -106,8 +107,13 @@ void SpherocylinderListPruning::prune_after_build()
     int kept = 0;
     for (int jj = 0; jj < listed_i; ++jj) {
       const int j = neighbours[jj] & NEIGHMASK;
-      const bool keep = (touching && touching[jj]) ||
-                        cores_near(i, j, atom->shape[i][1] + atom->shape[j][1] + skin);
+      // a tangential spring in use stays, wherever the cores are now;
+      // not any flag: the stock hooke/stiffness *sets* its own bit in
+      // surfacesClose (`|=`, where the other models clear theirs), so
+      // every pair whose bounding spheres overlap carries a flag
+      const bool keep =
+          (touching && (touching[jj] & LIGGGHTS::ContactModels::CONTACT_TANGENTIAL_MODEL)) ||
+          cores_near(i, j, atom->shape[i][1] + atom->shape[j][1] + skin);
       if (!keep) continue;
       if (kept != jj) {
         neighbours[kept] = neighbours[jj];

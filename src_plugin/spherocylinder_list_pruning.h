@@ -9,7 +9,7 @@
    spheres of the same volume, and most of them can never touch before the
    next build: the pair loop pays for each one every step. After each
    build, this helper keeps only the pairs whose core segments are closer
-   than r_i + r_j + skin (or that carry a contact history), in place, in
+   than r_i + r_j + skin (or whose tangential spring is in use), in place, in
    the pair style's list and its history list together.
 
    That list stays complete as long as no point of any rod's core has

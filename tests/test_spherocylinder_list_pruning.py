@@ -138,3 +138,28 @@ def test_the_gas_runs_as_with_the_whole_list(tmp_path):
     assert np.count_nonzero(spin) >= 20, "too few collisions for the test to tell"
     for name, values in whole.items():
         np.testing.assert_allclose(pruned[name], values, rtol=1e-9, atol=1e-10)
+
+
+def test_a_pair_that_touched_and_parted_is_cut_once_its_cores_are_far(run, tmp_path):
+    """Two parallel rods start touching and part at 0.5 m/s, the list
+    built at every step. While their cores are within d + skin the pair is
+    kept; once beyond, it is cut at every build although their bounding
+    spheres still overlap (the stock hooke/stiffness flags every such pair
+    as if in contact: the cut must not rely on the flags)."""
+    rods = [((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0)),
+            ((0, D, 0), (1, 0, 0), (0, 0.5, 0), (0, 0, 0))]
+    extra = PRUNING_VECTOR + "\nvariable y2 equal y[2]\nneigh_modify every 1 delay 0 check no\n"
+    for steps in (100, 20):
+        extra += f'run {steps}\nprint "pruning ${{listed}} ${{kept}} ${{asked}} ${{y2}}"\n'
+    screen = run(rod_deck(rods, 1, dt=1e-4, extra=extra))
+    rows = [[float(w) for w in line.split()[1:]] for line in screen.splitlines()
+            if line.startswith("pruning ")]
+    (listed0, kept0, _, y0), (listed1, kept1, _, y1) = rows
+    # past d + skin after the first window, still within L + skin (listed)
+    assert D + SKIN < y0 < y1 < LENGTH
+    # 20 steps and the build of the run's set-up
+    assert listed1 - listed0 == 21
+    assert kept1 == kept0
+    # and it was kept while near: the cores part by the skin 0.2 d in
+    # 0.2 d / (0.5 m/s) / dt = 40 steps, 41 builds with the set-up's
+    assert 40 <= kept0 <= 42

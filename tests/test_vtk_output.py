@@ -25,6 +25,7 @@ Without VTK in the build (or without python3-vtk9) the frame tests skip
 with the reason.
 """
 
+import locale
 import math
 import subprocess
 from pathlib import Path
@@ -125,7 +126,13 @@ def vtk_read(path):
     assert Path(path).exists(), f"{path} was not written"
     reader = readers[Path(path).suffix]()
     reader.SetFileName(str(path))
-    reader.Update()
+    # VTK's legacy reader leaves the process in the C locale: Python would
+    # then decode the later tests' subprocess output as ASCII
+    saved = locale.setlocale(locale.LC_ALL)
+    try:
+        reader.Update()
+    finally:
+        locale.setlocale(locale.LC_ALL, saved)
     return reader.GetOutput()
 
 

@@ -25,7 +25,9 @@ RUN_KEYS = ("d", "rho", "mass", "Dc", "D", "f", "seed", "N", "dt", "t_open", "re
 DISCHARGE_COLUMNS = ("step", "t", "n_out", "mass_out")
 # compute pair/gran/local pos id force: the 12 columns of one contact
 CONTACT_COLUMNS = ("x1", "y1", "z1", "x2", "y2", "z2", "id1", "id2", "periodic", "fx", "fy", "fz")
-ORIENTATION_COLUMNS = ("ox", "oy", "oz")
+# a grain's axis in dump.cg: the deck's rods write c_rod_axis[1-3]
+# (compute spherocylinder/axis); ox oy oz is the name other tools use
+ORIENTATION_COLUMN_SETS = (("c_rod_axis[1]", "c_rod_axis[2]", "c_rod_axis[3]"), ("ox", "oy", "oz"))
 
 # Stationary-window defaults (s, or a fraction of the grains), see
 # doc/silo3d_rotating_records.md.
@@ -75,13 +77,15 @@ def read_discharge(run_dir):
 
 def frame_particles(columns):
     """cg.Particles of a dump.cg frame; orientations (normalised) when the
-    frame has ox oy oz."""
+    frame has the axes (ORIENTATION_COLUMN_SETS, the first set present)."""
     positions = np.column_stack([columns["x"], columns["y"], columns["z"]])
     velocities = np.column_stack([columns["vx"], columns["vy"], columns["vz"]])
     orientations = None
-    if all(name in columns for name in ORIENTATION_COLUMNS):
-        axes = np.column_stack([columns[name] for name in ORIENTATION_COLUMNS])
-        orientations = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    for names in ORIENTATION_COLUMN_SETS:
+        if all(name in columns for name in names):
+            axes = np.column_stack([columns[name] for name in names])
+            orientations = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+            break
     return cg.Particles(positions, velocities, columns["mass"], orientations)
 
 

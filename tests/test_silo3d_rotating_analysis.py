@@ -437,3 +437,30 @@ def test_a_frame_written_twice_is_read_once(tmp_path):
     read = [(step, particles.positions[0, 2], contacts)
             for step, particles, contacts in silo.frames_with_contacts(run, steps[[1, 2, 3]])]
     assert read == [(20, 20.0, None), (30, 30.0, None)]
+
+
+def test_the_rods_axes_of_the_deck_s_dump_are_read_as_orientations(run, tmp_path):
+    """dump.cg of the deck with rods has c_rod_axis[1-3] (compute
+    spherocylinder/axis): two rods set along given axes come back as
+    those unit vectors."""
+    axes = np.array([[1.0, 2.0, 2.0], [0.0, -3.0, 4.0]])
+    rods = "\n".join(f"""create_atoms 1 single {0.05 * k!r} 0 0 units box
+group r{k} id {k + 1}
+set_spherocylinder r{k} diameter 0.01 length 0.03 density 620 axis {a[0]!r} {a[1]!r} {a[2]!r}"""
+                     for k, a in enumerate(axes))
+    run(f"""units si
+atom_style spherocylinder
+atom_modify map array sort 0 0
+boundary f f f
+newton off
+region box block -0.1 0.2 -0.1 0.1 -0.1 0.1 units box
+create_box 1 box
+{rods}
+compute rod_axis all spherocylinder/axis
+dump cg all custom 1 dump.cg id type x y z vx vy vz radius mass c_rod_axis[1] c_rod_axis[2] c_rod_axis[3]
+dump_modify cg sort id format "%d %d{' %.17g' * 12}"
+run 0
+""")
+    (_, frame), = list(iter_dump(tmp_path / "dump.cg"))
+    orientations = silo.frame_particles(frame).orientations
+    np.testing.assert_allclose(orientations, axes / np.linalg.norm(axes, axis=1, keepdims=True), atol=1e-12)

@@ -73,6 +73,8 @@ class AtomVecSpherocylinder : public AtomVecSphere {
   void set_rod(int i, double diameter, double length, double density, const double *axis);
   // the space-frame axis of rod i (unit vector)
   void axis_of(int i, double *axis) const;
+  // half the length of rod i's core segment, (L - d)/2 (shape holds L/2, d/2, d/2)
+  double half_segment_of(int i) const { return shape[i][0] - shape[i][1]; }
 
  private:
   double **quaternion, **angmom, **shape, **inertia;

@@ -27,12 +27,12 @@ using namespace LAMMPS_NS;
 
 FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
   FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg),
-  symmetric_top_(symmetric_top_keyword(narg, arg)),
+  rods_(dynamic_cast<AtomVecSpherocylinder *>(atom->avec)),
+  symmetric_top_(keyword_value(narg, arg, "integration_scheme", "symmetric_top") == "symmetric_top"),
   pruning_(NULL)
 {
-  if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec))
-    error->fix_error(FLERR, this, "needs atom_style spherocylinder");
-  if (prune_list_keyword(narg, arg)) {
+  if (!rods_) error->fix_error(FLERR, this, "needs atom_style spherocylinder");
+  if (keyword_value(narg, arg, "prune_list", "yes") == "yes") {
     pruning_ = new SpherocylinderListPruning(lmp);
     // the builds a turning rod needs: Neighbor::decide checks next_reneighbor
     force_reneighbor = 1;
@@ -91,21 +91,15 @@ int FixNVESpherocylinder::checked_arguments(LAMMPS *lmp, int narg, char **arg)
   return base_arguments;
 }
 
-bool FixNVESpherocylinder::symmetric_top_keyword(int narg, char **arg)
+// the value given to `keyword` (the last one if given twice), or `fallback`;
+// the arguments were checked by checked_arguments
+std::string FixNVESpherocylinder::keyword_value(int narg, char **arg, const std::string &keyword,
+                                                const std::string &fallback)
 {
-  bool symmetric_top = true;
+  std::string value = fallback;
   for (int i = 3; i + 1 < narg; i += 2)
-    if (std::string(arg[i]) == "integration_scheme")
-      symmetric_top = std::string(arg[i + 1]) == "symmetric_top";
-  return symmetric_top;
-}
-
-bool FixNVESpherocylinder::prune_list_keyword(int narg, char **arg)
-{
-  bool prune = true;
-  for (int i = 3; i + 1 < narg; i += 2)
-    if (std::string(arg[i]) == "prune_list") prune = std::string(arg[i + 1]) == "yes";
-  return prune;
+    if (keyword == arg[i]) value = arg[i + 1];
+  return value;
 }
 
 void FixNVESpherocylinder::init()
@@ -171,32 +165,36 @@ void top_omega(const double *angmom, const double *axis, double axial, double tr
 
 }  // namespace
 
+// the half kick of velocity Verlet: v by the force, L by the torque
+void FixNVESpherocylinder::half_kick(int i)
+{
+  const double dtfm = dtf/atom->rmass[i];
+  for (int k = 0; k < 3; ++k) {
+    atom->v[i][k] += dtfm*atom->f[i][k];
+    atom->angmom[i][k] += dtf*atom->torque[i][k];
+  }
+}
+
 void FixNVESpherocylinder::symmetric_top_first_half()
 {
-  double **x = atom->x, **v = atom->v, **f = atom->f;
-  double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
+  double **x = atom->x, **v = atom->v;
+  double **angmom = atom->angmom, **omega = atom->omega;
   double **quat = atom->quaternion, **inertia = atom->inertia;
-  const double *rmass = atom->rmass;
   const int *mask = atom->mask;
   const int nlocal = igroup == atom->firstgroup ? atom->nfirst : atom->nlocal;
   for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf/rmass[i];
-    for (int k = 0; k < 3; ++k) {
-      v[i][k] += dtfm*f[i][k];
-      x[i][k] += dtv*v[i][k];
-      angmom[i][k] += dtf*torque[i][k];
-    }
+    half_kick(i);
+    for (int k = 0; k < 3; ++k) x[i][k] += dtv*v[i][k];
     const double axial = inertia[i][0], transverse = inertia[i][1];
-    double axis[3], ey[3], ez[3];
-    MathExtra::q_to_exyz(quat[i], axis, ey, ez);
+    double axis[3];
+    rods_->axis_of(i, axis);
     const double along = angmom[i][0]*axis[0] + angmom[i][1]*axis[1] + angmom[i][2]*axis[2];
     const double size = std::sqrt(angmom[i][0]*angmom[i][0] + angmom[i][1]*angmom[i][1] +
                                   angmom[i][2]*angmom[i][2]);
-    double turned[4];
     if (size > 0.0) {
       const double direction[3] = {angmom[i][0]/size, angmom[i][1]/size, angmom[i][2]/size};
-      double precession[4], spin[4], spun[4];
+      double precession[4], spin[4], spun[4], turned[4];
       const double body_x[3] = {1.0, 0.0, 0.0};
       MathExtra::axisangle_to_quat(direction, size/transverse*dtv, precession);
       MathExtra::axisangle_to_quat(body_x, along*(1.0/axial - 1.0/transverse)*dtv, spin);
@@ -204,7 +202,7 @@ void FixNVESpherocylinder::symmetric_top_first_half()
       MathExtra::quatquat(precession, spun, turned);
       MathExtra::qnormalize(turned);
       for (int k = 0; k < 4; ++k) quat[i][k] = turned[k];
-      MathExtra::q_to_exyz(quat[i], axis, ey, ez);
+      rods_->axis_of(i, axis);
     }
     top_omega(angmom[i], axis, axial, transverse, omega[i]);
   }
@@ -212,22 +210,15 @@ void FixNVESpherocylinder::symmetric_top_first_half()
 
 void FixNVESpherocylinder::symmetric_top_second_half()
 {
-  double **v = atom->v, **f = atom->f;
-  double **angmom = atom->angmom, **torque = atom->torque, **omega = atom->omega;
-  double **quat = atom->quaternion, **inertia = atom->inertia;
-  const double *rmass = atom->rmass;
+  double **inertia = atom->inertia;
   const int *mask = atom->mask;
   const int nlocal = igroup == atom->firstgroup ? atom->nfirst : atom->nlocal;
   for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf/rmass[i];
-    for (int k = 0; k < 3; ++k) {
-      v[i][k] += dtfm*f[i][k];
-      angmom[i][k] += dtf*torque[i][k];
-    }
-    double axis[3], ey[3], ez[3];
-    MathExtra::q_to_exyz(quat[i], axis, ey, ez);
-    top_omega(angmom[i], axis, inertia[i][0], inertia[i][1], omega[i]);
+    half_kick(i);
+    double axis[3];
+    rods_->axis_of(i, axis);
+    top_omega(atom->angmom[i], axis, inertia[i][0], inertia[i][1], atom->omega[i]);
   }
 }
 
@@ -271,7 +262,7 @@ void FixNVESpherocylinder::warn_if_time_step_is_coarse()
   double lightest_end = 1e300;
   for (int i = 0; i < atom->nlocal; ++i) {
     if (!(atom->mask[i] & groupbit)) continue;
-    const double h = atom->shape[i][0] - atom->shape[i][1];
+    const double h = rods_->half_segment_of(i);
     lightest_end = std::min(lightest_end, 1.0/(1.0/atom->rmass[i] + h*h/atom->inertia[i][1]));
   }
   double lightest = lightest_end;

@@ -38,6 +38,8 @@ FixStyle(nve/spherocylinder,FixNVESpherocylinder)
 #ifndef LMP_FIX_NVE_SPHEROCYLINDER_H
 #define LMP_FIX_NVE_SPHEROCYLINDER_H
 
+#include <string>
+
 #include "fix_nve_asphere_base.h"
 #include "spherocylinder_list_pruning.h"
 
@@ -57,12 +59,14 @@ class FixNVESpherocylinder : public FixNVEAsphereBase {
 
  private:
   static int checked_arguments(class LAMMPS *, int narg, char **arg);
-  static bool prune_list_keyword(int narg, char **arg);
-  static bool symmetric_top_keyword(int narg, char **arg);
+  static std::string keyword_value(int narg, char **arg, const std::string &keyword,
+                                   const std::string &fallback);
   void warn_if_time_step_is_coarse();
+  void half_kick(int i);
   void symmetric_top_first_half();
   void symmetric_top_second_half();
 
+  class AtomVecSpherocylinder *rods_;
   bool symmetric_top_;
 
   // NULL with prune_list no

@@ -70,9 +70,10 @@ void FixWallGranRodContacts::init()
 
 void FixWallGranRodContacts::rod_of(int i, double *axis, double &half_length, double &radius) const
 {
-  static_cast<AtomVecSpherocylinder *>(atom->avec)->axis_of(i, axis);
+  const AtomVecSpherocylinder *rods = static_cast<AtomVecSpherocylinder *>(atom->avec);
+  rods->axis_of(i, axis);
   radius = atom->shape[i][1];
-  half_length = atom->shape[i][0] - radius;
+  half_length = rods->half_segment_of(i);
 }
 
 void FixWallGranRodContacts::wall_velocity(const double *, double *velocity) const

@@ -60,8 +60,7 @@ bool SpherocylinderListPruning::after_move(int groupbit)
       moved += dx*dx;
       turned += du*du;
     }
-    const double half_segment = atom->shape[i][0] - atom->shape[i][1];
-    travel_[i] += std::sqrt(moved) + half_segment*std::sqrt(turned);
+    travel_[i] += std::sqrt(moved) + avec_->half_segment_of(i)*std::sqrt(turned);
     farthest = std::max(farthest, travel_[i]);
   }
   double farthest_anywhere = farthest;
@@ -77,9 +76,8 @@ bool SpherocylinderListPruning::after_move(int groupbit)
 bool SpherocylinderListPruning::cores_near(int i, int j, double reach) const
 {
   if (atom->tag[i] > atom->tag[j]) std::swap(i, j);
-  const double h1 = atom->shape[i][0] - atom->shape[i][1];
-  const double h2 = atom->shape[j][0] - atom->shape[j][1];
-  return silokit::cores_within(atom->x[i], &axes_[3*i], h1, atom->x[j], &axes_[3*j], h2, reach);
+  return silokit::cores_within(atom->x[i], &axes_[3*i], avec_->half_segment_of(i),
+                               atom->x[j], &axes_[3*j], avec_->half_segment_of(j), reach);
 }
 
 void SpherocylinderListPruning::prune_after_build()
@@ -133,13 +131,13 @@ void SpherocylinderListPruning::prune_after_build()
 double SpherocylinderListPruning::pairs_listed() const
 {
   double total = 0.0;
-  MPI_Allreduce(const_cast<double *>(&pairs_listed_), &total, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&pairs_listed_, &total, 1, MPI_DOUBLE, MPI_SUM, world);
   return total;
 }
 
 double SpherocylinderListPruning::pairs_kept() const
 {
   double total = 0.0;
-  MPI_Allreduce(const_cast<double *>(&pairs_kept_), &total, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&pairs_kept_, &total, 1, MPI_DOUBLE, MPI_SUM, world);
   return total;
 }

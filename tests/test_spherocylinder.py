@@ -28,6 +28,7 @@ RHO = 1000.0
 KN = 1.0e4
 RADIUS = D / 2
 HALF_SEGMENT = (LENGTH - D) / 2
+SKIN = 0.2 * D         # the neighbour skin of rod_contacts
 ROD_MODEL = "model hooke/stiffness tangential history surface spherocylinder"
 SPHERE_MODEL = "model hooke/stiffness tangential history"
 
@@ -71,7 +72,7 @@ communicate single vel yes"""
 
 def rod_contacts(dt, gamman=0.0, gammat=0.0, mu=0.5):
     """Neighbour list, materials, the rod pair style and the time step."""
-    return f"""neighbor {0.2 * D!r} bin
+    return f"""neighbor {SKIN!r} bin
 neigh_modify delay 0
 {hooke_materials(KN, 2.0 / 7.0 * KN, gamman=gamman, gammat=gammat, mu=mu)}
 pair_style gran {ROD_MODEL}

@@ -11,10 +11,7 @@ import numpy as np
 
 from analysis.lammps_io import read_dump
 from conftest import run_liggghts
-from test_spherocylinder import D, LENGTH, gas_deck, rod_contacts, rod_deck, rod_system
-
-SKIN = 0.2 * D           # rod_contacts' neighbour skin
-HALF_SEGMENT = (LENGTH - D) / 2
+from test_spherocylinder import D, HALF_SEGMENT, LENGTH, SKIN, gas_deck, rod_contacts, rod_deck, rod_system
 PRUNING_VECTOR = """variable listed equal f_move[1]
 variable kept equal f_move[2]
 variable asked equal f_move[3]"""

@@ -39,6 +39,9 @@ ROLLING_MODEL(ROLLING_JIANG,jiang,7)
 namespace MODEL_PARAMS
 {
   // Absolute contact length l_c per type pair, for the fixed-length mode.
+  // 0 switches rolling resistance off for that pair (k_r = mu_r = 0), so
+  // that one pair style can give it to some contacts only (e.g. the grains
+  // on a substrate, doc/pile2d.md).
   inline MatrixProperty* createRollingContactLength(PropertyRegistry & registry,
                                                     const char * caller, bool)
   {
@@ -47,11 +50,11 @@ namespace MODEL_PARAMS
     const int max_type = registry.max_type();
     for (int i = 1; i <= max_type; i++)
       for (int j = 1; j <= max_type; j++)
-        if (!(contact_length->data[i][j] > 0.0)) {
+        if (!(contact_length->data[i][j] >= 0.0)) {
           std::ostringstream message;
-          message << "rolling_friction jiang: rollingContactLength must be > 0 "
-                  << "for every type pair (types " << i << " " << j << " have "
-                  << contact_length->data[i][j] << ")";
+          message << "rolling_friction jiang: rollingContactLength must be >= 0 "
+                  << "(0: no rolling resistance for that pair) for every type pair (types "
+                  << i << " " << j << " have " << contact_length->data[i][j] << ")";
           registry.getLAMMPS()->error->all(FLERR, message.str().c_str());
         }
     return contact_length;

@@ -111,18 +111,18 @@ def test_missing_contact_length(tmp_path, where):
 
 
 @pytest.mark.parametrize("where", WHERE)
-@pytest.mark.parametrize("value", [0.0, -1.0e-3])
-def test_contact_length_not_positive(tmp_path, where, value):
-    message = refused(tmp_path, deck(where, properties=per_pair("rollingContactLength", value)))
-    assert "rollingContactLength must be > 0" in message
+def test_contact_length_negative(tmp_path, where):
+    # 0 is allowed (no rolling resistance for that pair; test_jiang_statics_rolling)
+    message = refused(tmp_path, deck(where, properties=per_pair("rollingContactLength", -1.0e-3)))
+    assert "rollingContactLength must be >= 0" in message
     assert "types 1 1" in message
 
 
-def test_contact_length_not_positive_names_the_type_pair(tmp_path):
-    # two types, only the 1-2 entries are 0: the check covers every pair
-    properties = "fix m_lc all property/global rollingContactLength peratomtypepair 2 1e-3 0 0 1e-3\n"
+def test_contact_length_negative_names_the_type_pair(tmp_path):
+    # two types, only the 1-2 entries are negative: the check covers every pair
+    properties = "fix m_lc all property/global rollingContactLength peratomtypepair 2 1e-3 -1e-3 -1e-3 1e-3\n"
     message = refused(tmp_path, deck("pair", properties=properties, ntypes=2))
-    assert "rollingContactLength must be > 0" in message
+    assert "rollingContactLength must be >= 0" in message
     assert "types 1 2" in message
 
 

@@ -158,6 +158,16 @@ class Support:
             self.tan_c = self.mu
             self.rolling_stiffness = lambda d: KN_2D * contact_length ** 2
             self.rolling_limited = False
+        elif mode == "zero":
+            # rolling_friction jiang with rollingContactLength 0 for the
+            # pair: k_r = mu_r = 0, no rolling resistance (what the pile's
+            # decks use to give it to grain-substrate contacts only)
+            self.mu = 0.5
+            self.keywords = "rolling_friction jiang rollingDamping on"
+            self.properties = per_pair("rollingContactLength", 0.0) + rolling_damping
+            self.tan_c = 0.0
+            self.rolling_stiffness = None
+            self.rolling_limited = True
         else:
             # plain hooke/stiffness + tangential history: nothing resists
             # rolling, no equilibrium at any theta > 0
@@ -293,6 +303,18 @@ def test_disc_on_one_disc_without_rolling_resistance(run, tmp_path):
     tan = 0.017 << mu) the disc rolls off without slip."""
     support = Support("none")
     assert_falls(top_disc_history(run, tmp_path, support, math.radians(1.0), "none"), rolls=True)
+
+
+def test_zero_contact_length_is_no_rolling_resistance(run, tmp_path):
+    """rollingContactLength 0 switches the model off for the pair: the disc
+    at 1 degree rolls off along the same trajectory as with the stock
+    pair style without rolling_friction (the reference)."""
+    theta = math.radians(1.0)
+    zero = top_disc_history(run, tmp_path, Support("zero"), theta, "zero")
+    stock = top_disc_history(run, tmp_path, Support("none"), theta, "stock")
+    assert zero["angle"].max() > FALLEN
+    for name in ("x", "y", "vx", "vy", "omegaz"):
+        np.testing.assert_allclose(zero[name], stock[name], rtol=1e-12, atol=1e-15)
 
 
 # ---------------------------------------------------------------------------

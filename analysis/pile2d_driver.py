@@ -27,12 +27,14 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-INPUTS = ROOT / "inputs"
+# a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
+# runs, and every run of the ensemble must use the same one)
+INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
 BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
 MODELS = ("none", "overlap", "depth", "fixed")
 FIRST_SEED = 15485863
 PILES_HEADER = ("# model L seed n_pile h0 rows inserted t_rain t_end status dt_fraction "
-                "damping rolling_damping pile")
+                "damping rolling_damping pile substrate_d substrate_lc")
 DISCHARGES_HEADER = ("# model L w seed h n_out h0 n_pile w_gap t_end status dt_fraction "
                      "damping rolling_damping")
 
@@ -101,8 +103,9 @@ def ensure_header(path, header):
 # ---------------------------------------------------------------- running
 
 class Runner:
-    def __init__(self, args):
+    def __init__(self, args, argv=()):
         self.args = args
+        self.argv = list(argv)
         self.out = Path(args.out).resolve()
         self.piles_file = self.out / "piles.txt"
         self.results_file = self.out / "discharges.txt"
@@ -176,6 +179,11 @@ class Runner:
         (self.out / "logs").mkdir(parents=True, exist_ok=True)
         ensure_header(self.piles_file, PILES_HEADER)
         ensure_header(self.results_file, DISCHARGES_HEADER)
+        # the records do not carry every deck variable (--var): each
+        # invocation's command line is kept beside them
+        with open(self.out / "driver_commands.txt", "a") as handle:
+            handle.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')} python3 -m analysis.pile2d_driver "
+                         f"{' '.join(self.argv)}\n")
         seeds = a.seed_list or prime_seeds(a.seeds, a.first_seed)
         tasks = [(model, length, seed) for length in a.L for seed in seeds for model in a.models]
         built = read_records(self.piles_file, ("model", "L", "seed"))
@@ -215,7 +223,8 @@ def parse(argv):
     parser.add_argument("--out", required=True, help="directory for records, piles and logs")
     parser.add_argument("--models", nargs="+", default=list(MODELS), choices=MODELS)
     parser.add_argument("--L", nargs="+", type=float, required=True, help="substrate lengths (d)")
-    parser.add_argument("--widths", nargs="+", type=float, required=True, help="orifice widths (d)")
+    parser.add_argument("--widths", nargs="*", type=float, default=[],
+                        help="orifice widths (d); none: build the piles only")
     parser.add_argument("--seeds", type=int, default=10, help="number of piles per (model, L)")
     parser.add_argument("--first-seed", dest="first_seed", type=int, default=FIRST_SEED,
                         help="seeds are the primes from this one on")
@@ -241,7 +250,8 @@ def parse(argv):
 
 
 def main(argv=None):
-    failures = Runner(parse(argv)).run()
+    argv = sys.argv[1:] if argv is None else argv
+    failures = Runner(parse(argv), argv).run()
     if failures:
         print(f"{len(failures)} task(s) failed", file=sys.stderr)
         return 1

@@ -69,6 +69,9 @@ def configuration_deck(columns, model, orifice, steps):
     lines = [f"variable model index {model}", f"variable inputs index {INPUTS}",
              "variable damping index 0.3", "variable rolling_damping index 0.3",
              "variable dt_fraction index 25",
+             # the reference: no rolling resistance anywhere, not even the
+             # default one on the substrate contacts (doc/pile2d.md)
+             *(["variable substrate_lc index 0"] if model == "none" else []),
              "units si", "dimension 2", "atom_style sphere", "atom_modify map array",
              "boundary f f p", "newton off", "communicate single vel yes", "processors * 1 1",
              "region box block -27 27 -1 52 -0.5 0.5 units box", "create_box 2 box"]

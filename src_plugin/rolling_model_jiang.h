@@ -29,6 +29,7 @@ ROLLING_MODEL(ROLLING_JIANG,jiang,7)
 #include "comm.h"
 #include "error.h"
 #include "force.h"
+#include "modify.h"
 #include "update.h"
 #include <algorithm>
 #include <cmath>
@@ -112,7 +113,13 @@ namespace ContactModels
     {
       registry.registerProperty("coeffFrict", &MODEL_PARAMS::createCoeffFrict);
       registry.connect("coeffFrict", coefficient_friction, "rolling_friction jiang");
-      if (!contact_length_from_overlap && !contact_length_from_depth) {
+      // fixed mode needs rollingContactLength; with l_c from the overlap it
+      // is optional, and a type pair given a positive value keeps that
+      // fixed l_c (e.g. grains on a substrate, doc/pile2d.md)
+      const bool geometric = contact_length_from_overlap || contact_length_from_depth;
+      if (!geometric || modify->find_fix_property("rollingContactLength", "property/global",
+                                                  "peratomtypepair", 0, 0, "rolling_friction jiang",
+                                                  false)) {
         registry.registerProperty("rollingContactLength", &MODEL_PARAMS::createRollingContactLength);
         registry.connect("rollingContactLength", fixed_contact_length, "rolling_friction jiang");
       }
@@ -224,14 +231,18 @@ namespace ContactModels
 
     inline double contactLength(const SurfacesIntersectData & sidata) const
     {
-      // the contact's deformation itself: the normal overlap delta_n
-      if (contact_length_from_depth) return std::max(sidata.deltan, 0.0);
-      if (contact_length_from_overlap)
+      const double contact_length = fixed_contact_length ? fixed_contact_length[sidata.itype][sidata.jtype]
+                                                         : 0.0;
+      const bool fixed_here = !(contact_length_from_depth || contact_length_from_overlap) ||
+                              contact_length > 0.0;
+      if (!fixed_here) {
+        // the contact's deformation itself: the normal overlap delta_n
+        if (contact_length_from_depth) return std::max(sidata.deltan, 0.0);
         return sidata.is_wall
           ? silokit::jiang::wall_overlap_contact_length(sidata.radi, sidata.deltan)
           : silokit::jiang::overlap_contact_length(sidata.radi, sidata.radj, sidata.r);
+      }
 
-      const double contact_length = fixed_contact_length[sidata.itype][sidata.jtype];
       const double smallest_diameter =
         2.0*(sidata.is_wall ? sidata.radi : std::min(sidata.radi, sidata.radj));
       if (contact_length > smallest_diameter) {

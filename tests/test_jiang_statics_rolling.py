@@ -317,6 +317,36 @@ def test_zero_contact_length_is_no_rolling_resistance(run, tmp_path):
         np.testing.assert_allclose(zero[name], stock[name], rtol=1e-12, atol=1e-15)
 
 
+@pytest.mark.parametrize("geometric", ["contactLengthFromOverlap", "contactLengthFromDepth"])
+def test_geometric_modes_keep_a_fixed_length_where_one_is_given(run, tmp_path, geometric):
+    """With l_c from each contact, an optional rollingContactLength > 0 for
+    a type pair fixes l_c there: the disc 15 % above the fixed-l_c
+    threshold rolls off exactly as in fixed mode (the reference); with 0 for
+    the pair the geometric l_c stays, exactly as without the property."""
+    theta = math.atan((1 + MARGIN) * Support("fixed").tan_c)
+    fixed = Support("fixed")
+    given = Support("fixed")
+    given.keywords = f"rolling_friction jiang {geometric} on rollingDamping on"
+    reference = top_disc_history(run, tmp_path, fixed, theta, "fixed")
+    overridden = top_disc_history(run, tmp_path, given, theta, "given")
+    assert reference["angle"].max() > FALLEN
+    for name in ("x", "y", "vx", "vy", "omegaz"):
+        np.testing.assert_allclose(overridden[name], reference[name], rtol=1e-12, atol=1e-15)
+
+    plain = Support("fixed")
+    plain.keywords = given.keywords
+    plain.properties = per_pair("coefficientRollingViscousDamping", ROLLING_DAMPING)
+    zero = Support("fixed")
+    zero.keywords = given.keywords
+    zero.properties = plain.properties + per_pair("rollingContactLength", 0.0)
+    geometric_only = top_disc_history(run, tmp_path, plain, theta, "plain")
+    with_zero = top_disc_history(run, tmp_path, zero, theta, "zero")
+    for name in ("x", "y", "vx", "vy", "omegaz"):
+        np.testing.assert_allclose(with_zero[name], geometric_only[name], rtol=1e-12, atol=1e-15)
+    # and the geometric l_c (about 1e-3 d or less here) is not the fixed one
+    assert np.abs(geometric_only["angle"] - reference["angle"]).max() > 1e-3
+
+
 # ---------------------------------------------------------------------------
 # (c) a sphere rolling on a flat wall, 3D
 # ---------------------------------------------------------------------------

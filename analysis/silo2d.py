@@ -385,6 +385,54 @@ def arch_grains(arches, feet, reading):
     return {c: values[order] for c, values in merged.items()}
 
 
+def walk_pairs(arches, feet):
+    """Per clog, the arch's walk as the grain pairs it steps along: foot
+    base - left foot, left foot - member 1, member k - member k+1, ...,
+    member eta - right foot, right foot - its base (src_plugin/arch_walk.h;
+    feet.txt gives each foot's base grain). Returns {clog: {id: (pair,
+    pair)}}, each grain's two walk contacts, pairs as (smaller id, larger
+    id). Clogs without both feet are left out."""
+    by_clog = {}
+    for clog, order, grain in zip(np.atleast_1d(arches["clog"]), np.atleast_1d(arches["order"]),
+                                  np.atleast_1d(arches["id"])):
+        by_clog.setdefault(int(clog), []).append((int(order), int(grain)))
+    feet_by_clog = {}
+    for clog, order, grain, base in zip(np.atleast_1d(feet["clog"]), np.atleast_1d(feet["order"]),
+                                        np.atleast_1d(feet["id"]), np.atleast_1d(feet["base"])):
+        feet_by_clog.setdefault(int(clog), []).append((int(order), int(grain), int(base)))
+    walks = {}
+    for clog, members in by_clog.items():
+        ends = sorted(feet_by_clog.get(clog, []))
+        if len(ends) != 2:
+            continue
+        (_, left, left_base), (_, right, right_base) = ends
+        chain = [left_base, left] + [grain for _, grain in sorted(members)] + [right, right_base]
+        pairs = [tuple(sorted(step)) for step in zip(chain[:-1], chain[1:])]
+        walks[clog] = {grain: (pairs[k], pairs[k + 1]) for k, grain in enumerate(chain[1:-1])}
+    return walks
+
+
+def walk_contact_forces(grains, walks, contacts):
+    """For each row of `grains` (arch_grains), the mean normal force of its
+    two walk contacts (walk_pairs): the forces along the arch that set the
+    grain's angle phi, where the `fn` of arches.txt averages all of its
+    contacts. NaN where the clog has no walk or a contact is not in
+    `contacts`."""
+    wanted = {(clog, pair) for clog, walk in walks.items() for two in walk.values() for pair in two}
+    force = {}
+    for clog, id1, id2, fn in zip(np.atleast_1d(contacts["clog"]), np.atleast_1d(contacts["id1"]),
+                                  np.atleast_1d(contacts["id2"]), np.atleast_1d(contacts["fn"])):
+        key = (int(clog), (min(int(id1), int(id2)), max(int(id1), int(id2))))
+        if key in wanted:
+            force[key] = float(fn)
+    means = []
+    for clog, grain in zip(np.atleast_1d(grains["clog"]), np.atleast_1d(grains["id"])):
+        two = walks.get(int(clog), {}).get(int(grain))
+        values = [force.get((int(clog), pair)) for pair in two] if two else [None]
+        means.append(np.nan if None in values else 0.5 * (values[0] + values[1]))
+    return np.array(means)
+
+
 def arch_sizes(clogs, feet, reading):
     """eta of every clog with an arch (status 1), in clog order, under
     `reading`; with the feet, each such clog must have its two feet."""

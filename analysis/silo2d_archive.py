@@ -10,7 +10,9 @@ of height. The archive keeps:
 
 - clogs.txt, arches.txt, feet.txt, silo.txt, parameters.txt, segments.txt
   as they are (small);
-- contacts.txt.xz: the rows of contacts.txt in the bulk window, with
+- contacts.txt.xz: the rows of contacts.txt in the bulk window and the
+  contacts along each arch's walk (silo2d.walk_pairs: feet, members and
+  the feet's base grains; `silo2d_scan --arch-force walk`), with
   positions rounded to 7 significant digits and forces to 6, compressed
   with xz;
 - surfaces.txt: per clog, the height of the free surface in d
@@ -56,10 +58,18 @@ def archive(run_dir, archive_dir, d=None):
         d = silo2d.read_silo(silo)["d"] if silo.exists() else 1.0 / 32
     contacts = read_table(run_dir / "contacts.txt")
     bulk = silo2d.bulk_mask(contacts["x"], contacts["z"], d)
+    keep = bulk.copy()
+    feet = silo2d.read_feet(run_dir)
+    if feet is not None:
+        walks = silo2d.walk_pairs(read_table(run_dir / "arches.txt"), feet)
+        wanted = {(clog, pair) for clog, walk in walks.items() for two in walk.values() for pair in two}
+        keep |= np.array([(int(c), (min(int(a), int(b)), max(int(a), int(b)))) in wanted
+                          for c, a, b in zip(contacts["clog"], contacts["id1"], contacts["id2"])],
+                         dtype=bool)
     columns = silo2d.REQUIRED_COLUMNS["contacts.txt"]
     with lzma.open(archive_dir / "contacts.txt.xz", "wt", preset=9) as packed:
         packed.write("# " + " ".join(columns) + "\n")
-        for k in np.flatnonzero(bulk):
+        for k in np.flatnonzero(keep):
             packed.write(CONTACT_ROW.format(*(contacts[c][k] for c in columns)))
     clogs, heights = silo2d.surface_heights(contacts["clog"], contacts["x"], contacts["z"], d)
     with open(archive_dir / "surfaces.txt", "w") as surfaces:
@@ -71,7 +81,7 @@ def archive(run_dir, archive_dir, d=None):
         profiles.write("# " + " ".join(silo2d.PROFILE_COLUMNS) + "\n")
         for code, low, high, n, mean, deviations in sums:
             profiles.write(f"{code} {low:g} {high:g} {n} {mean:.12g} {deviations:.12g}\n")
-    return int(np.size(contacts["fn"])), int(np.sum(bulk))
+    return int(np.size(contacts["fn"])), int(np.sum(keep))
 
 
 def main(argv=None):
@@ -82,7 +92,7 @@ def main(argv=None):
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     total, kept = archive(args.run_dir, args.archive_dir)
     print(f"silo2d_archive: {args.run_dir} -> {args.archive_dir}: {kept} of {total} contacts "
-          f"kept (the bulk window), profiles as sums", flush=True)
+          f"kept (the bulk window and the arches' walks), profiles as sums", flush=True)
     return 0
 
 

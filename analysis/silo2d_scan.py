@@ -96,11 +96,28 @@ def clog_groups(run, arches):
     return groups
 
 
-def summarize(run, reading, rng):
-    """The row of the scan table for one run and one reading."""
+def with_walk_forces(run, arches):
+    """arches with `fn` replaced by each grain's walk-contact mean
+    (silo2d.walk_contact_forces); an error if the records lack them."""
+    if run["feet"] is None:
+        raise SystemExit(f"error: {run['dir']}: --arch-force walk needs feet.txt")
+    walks = silo2d.walk_pairs(run["tables"]["arches"], run["feet"])
+    forces = silo2d.walk_contact_forces(arches, walks, run["tables"]["contacts"])
+    if np.isnan(forces).any():
+        raise SystemExit(f"error: {run['dir']}: {int(np.isnan(forces).sum())} of {forces.size} arch "
+                         "grains lack a walk contact in contacts.txt (an archive made before "
+                         "silo2d_archive kept them: archive the run again)")
+    return {**arches, "fn": forces}
+
+
+def summarize(run, reading, rng, arch_force="all"):
+    """The row of the scan table for one run and one reading; arch_force
+    "walk" takes each arch grain's force from its two walk contacts."""
     geometry, tables = run["geometry"], run["tables"]
     weight = geometry["mass"] * geometry["g"]
     arches = silo2d.arch_grains(tables["arches"], run["feet"], reading)
+    if arch_force == "walk":
+        arches = with_walk_forces(run, arches)
     eta = silo2d.arch_sizes(tables["clogs"], run["feet"], reading)
     groups = clog_groups(run, arches)
     for group, size in zip(groups, eta):
@@ -120,7 +137,8 @@ def summarize(run, reading, rng):
     arch_fn = arches["fn"] / weight
     defects = int(np.sum(arches["phi"] > 180.0))
     return {
-        "mu": geometry["mu"], "R": geometry["R"], "reading": reading, "arches": int(eta.size),
+        "mu": geometry["mu"], "R": geometry["R"],
+        "reading": reading if arch_force == "all" else f"{reading}, walk forces", "arches": int(eta.size),
         "clogs": int(np.size(tables["clogs"]["clog"])),
         "eta_mean": silo2d.mean_t_ci(eta), "eta_mode": mode,
         "eta_mode_ci": silo2d.bootstrap_over_clogs(groups, mode_of, rng, RESAMPLES),
@@ -321,6 +339,10 @@ def parse_args(argv):
     parser.add_argument("--reading", choices=silo2d.READINGS, default=None,
                         help="the reading of the figures other than Fig. 2 (which shows all); default "
                              f"{silo2d.DEFAULT_READING}, members for records without feet.txt")
+    parser.add_argument("--arch-force", dest="arch_force", choices=("all", "walk"), default="all",
+                        help="an arch grain's f_n in the table: the mean over all its contacts "
+                             "(arches.txt's fn, the default) or over its two contacts along the "
+                             "arch's walk (doc/silo2d.md, Table 1)")
     parser.add_argument("--seed", type=int, default=1, help="bootstrap seed")
     return parser.parse_args(argv)
 
@@ -342,7 +364,7 @@ def main(argv=None):
     for run in runs:
         for reading in readings:
             print(f"silo2d_scan: mu {run['geometry']['mu']:g}, {reading} reading: statistics", flush=True)
-            rows.append(summarize(run, reading, rng))
+            rows.append(summarize(run, reading, rng, args.arch_force))
     text = format_table(rows)
     (args.out / "scan_table.md").write_text(text)
     print(text, flush=True)

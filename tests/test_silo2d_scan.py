@@ -109,11 +109,19 @@ def test_an_archive_gives_the_scan_of_its_run(tmp_path):
     total, kept = silo2d_archive.archive(run, tmp_path / "archive")
     all_contacts = read_table(run / "contacts.txt")
     in_bulk = silo2d.bulk_mask(all_contacts["x"], all_contacts["z"], 1.0)
-    assert (total, kept) == (306, int(in_bulk.sum())) and 0 < kept < total
+    # and the contacts along the arches' walks (test_walk_contact_forces_by_hand)
+    walks = silo2d.walk_pairs(read_table(run / "arches.txt"), read_table(run / "feet.txt"))
+    on_walk = np.array([(int(c), (min(a, b), max(a, b))) in
+                        {(clog, pair) for clog, w in walks.items() for two in w.values() for pair in two}
+                        for c, a, b in zip(all_contacts["clog"], all_contacts["id1"].astype(int),
+                                           all_contacts["id2"].astype(int))])
+    keep = in_bulk | on_walk
+    assert on_walk.sum() >= 1 and not np.any(in_bulk & on_walk)
+    assert (total, kept) == (306, int(keep.sum())) and 0 < kept < total
     assert not (tmp_path / "archive" / "contacts.txt").exists()
     packed = read_table(tmp_path / "archive" / "contacts.txt.xz")
-    np.testing.assert_allclose(packed["fn"], all_contacts["fn"][in_bulk], rtol=5e-6)   # 6 digits
-    np.testing.assert_allclose(packed["x"], all_contacts["x"][in_bulk], rtol=5e-7)
+    np.testing.assert_allclose(packed["fn"], all_contacts["fn"][keep], rtol=5e-6)   # 6 digits
+    np.testing.assert_allclose(packed["x"], all_contacts["x"][keep], rtol=5e-7)
 
     raw, archived = (silo2d_scan.load_run(path) for path in (run, tmp_path / "archive"))
     for reading in silo2d.READINGS:
@@ -128,3 +136,26 @@ def test_an_archive_gives_the_scan_of_its_run(tmp_path):
         np.testing.assert_allclose(summed[region][1], direct[region][1][filled], rtol=1e-9)
         np.testing.assert_allclose(summed[region][2], direct[region][2][filled], rtol=1e-9)
         np.testing.assert_array_equal(summed[region][3], direct[region][3][filled])
+
+
+def test_walk_contact_forces_by_hand():
+    """One clog: feet 5 (on base grain 100) and 6 (on 101), members 10 and
+    11 between them. The walk is 100-5-10-11-6-101; each grain's force is
+    the mean of its two walk contacts, whatever its other contacts carry."""
+    from analysis import silo2d
+    arches = {"clog": np.array([1, 1]), "order": np.array([1, 2]), "id": np.array([10, 11])}
+    feet = {"clog": np.array([1, 1]), "order": np.array([0, 3]), "id": np.array([5, 6]),
+            "base": np.array([100, 101])}
+    contacts = {"clog": np.array([1, 1, 1, 1, 1, 1, 2]),
+                "id1": np.array([5, 5, 10, 6, 6, 10, 10]),
+                "id2": np.array([100, 10, 11, 11, 101, 12, 11]),
+                "fn": np.array([10.0, 20.0, 30.0, 40.0, 50.0, 999.0, 777.0])}
+    walks = silo2d.walk_pairs(arches, feet)
+    assert walks == {1: {5: ((5, 100), (5, 10)), 10: ((5, 10), (10, 11)), 11: ((10, 11), (6, 11)),
+                         6: ((6, 11), (6, 101))}}
+    grains = {"clog": np.array([1, 1, 1, 1]), "id": np.array([5, 10, 11, 6])}
+    np.testing.assert_allclose(silo2d.walk_contact_forces(grains, walks, contacts), [15, 25, 35, 45])
+    # a clog without its walk, or a missing contact: NaN, not a wrong number
+    missing = {k: np.delete(v, 2) for k, v in contacts.items()}      # 10-11 gone
+    forces = silo2d.walk_contact_forces({"clog": np.array([1, 2]), "id": np.array([10, 10])}, walks, missing)
+    assert np.isnan(forces).all()

@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.lammps_io import read_dump
 from analysis.pile2d import mean_std_ci, read_discharges
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -50,35 +51,18 @@ ROOT = Path(__file__).resolve().parent.parent
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
 BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
-RUNON_HEADER = ("# model L seed time n_before n_after h0_before h0_after max_displacement "
-                "max_speed status")
 # deck variables a pile was built with, from its piles.txt line (default
 # when an older record lacks the column)
 BUILD_VARIABLES = {"model": None, "L": None, "seed": None, "damping": 0.3, "rolling_damping": 0.3,
                    "dt_fraction": 25}
-# substrate_lc is passed for model none only, whose records before the
-# column existed were built without it (0); the other models' piles all
-# used their model file's value (fixed: its own l_c)
-SUBSTRATE_LC_BEFORE_RECORDED = 0
+# substrate_lc of piles whose record predates its column (2026-11-24):
+# the decks then had no rolling resistance on the substrate but each
+# model's own (fixed: its 0.05 d; 0 for the others means their own l_c)
+SUBSTRATE_LC_BEFORE_RECORDED = {"none": 0, "depth": 0, "overlap": 0, "fixed": 0.05}
 
 GRID_STEP = 0.1      # d, spacing of the vertical lines of the surface
 EDGE_MARGIN = 1.0    # d, lines this close to a substrate end are left out of the fit
 PEAK_MARGIN = 1.0    # d, lines this close to the peak are left out of the fit
-
-
-def read_dump(path):
-    """Columns of the last frame of a LIGGGHTS custom dump, as a dict of
-    arrays (names from its ITEM: ATOMS line)."""
-    lines = Path(path).read_text().splitlines()
-    start = max(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
-    names = lines[start].split()[2:]
-    number = max(i for i, line in enumerate(lines[:start]) if line.startswith("ITEM: NUMBER OF ATOMS"))
-    count = int(lines[number + 1])
-    rows = [line.split() for line in lines[start + 1:start + 1 + count]]
-    if len(rows) != count:
-        raise ValueError(f"{path}: {len(rows)} atoms, the header says {count}")
-    data = np.array(rows, dtype=float).reshape(len(rows), len(names))
-    return {name: data[:, k] for k, name in enumerate(names)}
 
 
 def surface(x, y, r, length, step=GRID_STEP):
@@ -109,7 +93,7 @@ def flank_slope(lines, top, peak, length, edge_margin=EDGE_MARGIN, peak_margin=P
 
 def pile_shape(dump_path, length):
     """Shape of one equilibrated pile: grains, peak height, slope, angle."""
-    atoms = read_dump(dump_path)
+    atoms = read_dump(dump_path)[-1][1]
     free = atoms["type"] == 1
     x, y, r = atoms["x"][free], atoms["y"][free], atoms["radius"][free]
     on_substrate = np.abs(x) <= length / 2
@@ -166,8 +150,8 @@ def run_on(run_dir, factor, lengths=None, jobs=1):
 
     def one(row):
         variables = {name: number_text(row.get(name, default)) for name, default in BUILD_VARIABLES.items()}
-        if row["model"] == "none":
-            variables["substrate_lc"] = number_text(row.get("substrate_lc", SUBSTRATE_LC_BEFORE_RECORDED))
+        variables["substrate_lc"] = number_text(row.get("substrate_lc",
+                                                        SUBSTRATE_LC_BEFORE_RECORDED[row["model"]]))
         variables.update({"pile": pile_path(run_dir, row), "runon": record, "inputs": INPUTS,
                           "time": f"{factor * (row['t_end'] - row['t_rain']):.6g}"})
         name = f"{row['model']}_L{row['L']:g}_s{int(row['seed'])}"
@@ -279,6 +263,8 @@ def main(argv=None):
     parser.add_argument("--run-on-L", dest="run_on_L", nargs="+", type=float, default=None,
                         help="only the piles of these L")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="run-on runs at once")
+    parser.add_argument("--write", type=Path, default=None, metavar="FILE",
+                        help="also write one line per pile (its run, record columns and shape)")
     args = parser.parse_args(argv)
     if args.base_motion:
         print("| time (sqrt(d/g)) | grains | base grains | moving | mean abs(v_x) | mean abs(v_x + omega r) |")
@@ -306,6 +292,14 @@ def main(argv=None):
     if not shapes:
         print("no pile dumps found", file=sys.stderr)
         return 1
+    if args.write:
+        columns = ("run", "model", "L", "seed", "damping", "substrate_d", "substrate_lc", "n_pile", "h0", "t_rain",
+                   "t_end", "status", "grains", "top", "slope", "angle", "residual")
+        with open(args.write, "w") as handle:
+            handle.write("# " + " ".join(columns) + "\n")
+            for shape in shapes:
+                values = {**shape, "run": Path(shape["run"]).name}
+                handle.write(" ".join(number_text(values.get(c, "nan")) for c in columns) + "\n")
     print(format_table(summarize(shapes)))
     runs_on = [e for run in args.runs for e in runon_summary(run)]
     if runs_on:

@@ -39,10 +39,11 @@ ROLLING_MODEL(ROLLING_JIANG,jiang,7)
 
 namespace MODEL_PARAMS
 {
-  // Absolute contact length l_c per type pair, for the fixed-length mode.
-  // 0 switches rolling resistance off for that pair (k_r = mu_r = 0), so
-  // that one pair style can give it to some contacts only (e.g. the grains
-  // on a substrate, doc/pile2d.md).
+  // Absolute contact length l_c per type pair: required in the fixed-length
+  // mode, where 0 switches rolling resistance off for that pair (k_r = mu_r
+  // = 0), so that one pair style can give it to some contacts only (e.g. the
+  // grains on a substrate, doc/pile2d.md); optional with l_c from the
+  // overlap, where a pair given l_c > 0 keeps that fixed length.
   inline MatrixProperty* createRollingContactLength(PropertyRegistry & registry,
                                                     const char * caller, bool)
   {

@@ -412,19 +412,29 @@ def walk_pairs(arches, feet):
     return walks
 
 
+def _contact_keys(contacts):
+    """(clog, (smaller id, larger id)) of each row of contacts.txt."""
+    return [(int(clog), (min(int(a), int(b)), max(int(a), int(b))))
+            for clog, a, b in zip(np.atleast_1d(contacts["clog"]), np.atleast_1d(contacts["id1"]),
+                                  np.atleast_1d(contacts["id2"]))]
+
+
+def walk_contact_mask(walks, contacts):
+    """The rows of contacts.txt that lie along an arch's walk (walk_pairs)."""
+    wanted = {(clog, pair) for clog, walk in walks.items() for two in walk.values() for pair in two}
+    return np.array([key in wanted for key in _contact_keys(contacts)], dtype=bool)
+
+
 def walk_contact_forces(grains, walks, contacts):
     """For each row of `grains` (arch_grains), the mean normal force of its
     two walk contacts (walk_pairs): the forces along the arch that set the
     grain's angle phi, where the `fn` of arches.txt averages all of its
     contacts. NaN where the clog has no walk or a contact is not in
     `contacts`."""
-    wanted = {(clog, pair) for clog, walk in walks.items() for two in walk.values() for pair in two}
-    force = {}
-    for clog, id1, id2, fn in zip(np.atleast_1d(contacts["clog"]), np.atleast_1d(contacts["id1"]),
-                                  np.atleast_1d(contacts["id2"]), np.atleast_1d(contacts["fn"])):
-        key = (int(clog), (min(int(id1), int(id2)), max(int(id1), int(id2))))
-        if key in wanted:
-            force[key] = float(fn)
+    on_walk = walk_contact_mask(walks, contacts)
+    keys = _contact_keys(contacts)
+    fn = np.atleast_1d(contacts["fn"])
+    force = {keys[k]: float(fn[k]) for k in np.flatnonzero(on_walk)}
     means = []
     for clog, grain in zip(np.atleast_1d(grains["clog"]), np.atleast_1d(grains["id"])):
         two = walks.get(int(clog), {}).get(int(grain))

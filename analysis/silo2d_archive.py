@@ -62,10 +62,7 @@ def archive(run_dir, archive_dir, d=None):
     feet = silo2d.read_feet(run_dir)
     if feet is not None:
         walks = silo2d.walk_pairs(read_table(run_dir / "arches.txt"), feet)
-        wanted = {(clog, pair) for clog, walk in walks.items() for two in walk.values() for pair in two}
-        keep |= np.array([(int(c), (min(int(a), int(b)), max(int(a), int(b)))) in wanted
-                          for c, a, b in zip(contacts["clog"], contacts["id1"], contacts["id2"])],
-                         dtype=bool)
+        keep |= silo2d.walk_contact_mask(walks, contacts)
     columns = silo2d.REQUIRED_COLUMNS["contacts.txt"]
     with lzma.open(archive_dir / "contacts.txt.xz", "wt", preset=9) as packed:
         packed.write("# " + " ".join(columns) + "\n")

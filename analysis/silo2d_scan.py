@@ -101,8 +101,14 @@ def with_walk_forces(run, arches):
     (silo2d.walk_contact_forces); an error if the records lack them."""
     if run["feet"] is None:
         raise SystemExit(f"error: {run['dir']}: --arch-force walk needs feet.txt")
-    walks = silo2d.walk_pairs(run["tables"]["arches"], run["feet"])
-    forces = silo2d.walk_contact_forces(arches, walks, run["tables"]["contacts"])
+    if "walks" not in run:
+        # once per run (every reading asks): the walks, and the few contacts
+        # along them out of the run's hundreds of thousands
+        contacts = run["tables"]["contacts"]
+        run["walks"] = silo2d.walk_pairs(run["tables"]["arches"], run["feet"])
+        on_walk = silo2d.walk_contact_mask(run["walks"], contacts)
+        run["walk_contacts"] = {c: np.atleast_1d(contacts[c])[on_walk] for c in ("clog", "id1", "id2", "fn")}
+    forces = silo2d.walk_contact_forces(arches, run["walks"], run["walk_contacts"])
     if np.isnan(forces).any():
         raise SystemExit(f"error: {run['dir']}: {int(np.isnan(forces).sum())} of {forces.size} arch "
                          "grains lack a walk contact in contacts.txt (an archive made before "

@@ -111,10 +111,7 @@ def test_an_archive_gives_the_scan_of_its_run(tmp_path):
     in_bulk = silo2d.bulk_mask(all_contacts["x"], all_contacts["z"], 1.0)
     # and the contacts along the arches' walks (test_walk_contact_forces_by_hand)
     walks = silo2d.walk_pairs(read_table(run / "arches.txt"), read_table(run / "feet.txt"))
-    on_walk = np.array([(int(c), (min(a, b), max(a, b))) in
-                        {(clog, pair) for clog, w in walks.items() for two in w.values() for pair in two}
-                        for c, a, b in zip(all_contacts["clog"], all_contacts["id1"].astype(int),
-                                           all_contacts["id2"].astype(int))])
+    on_walk = silo2d.walk_contact_mask(walks, all_contacts)
     keep = in_bulk | on_walk
     assert on_walk.sum() >= 1 and not np.any(in_bulk & on_walk)
     assert (total, kept) == (306, int(keep.sum())) and 0 < kept < total
@@ -153,6 +150,9 @@ def test_walk_contact_forces_by_hand():
     walks = silo2d.walk_pairs(arches, feet)
     assert walks == {1: {5: ((5, 100), (5, 10)), 10: ((5, 10), (10, 11)), 11: ((10, 11), (6, 11)),
                          6: ((6, 11), (6, 101))}}
+    # the five contacts of the walk of clog 1, not 10-12 nor clog 2's 10-11
+    np.testing.assert_array_equal(silo2d.walk_contact_mask(walks, contacts),
+                                  [True, True, True, True, True, False, False])
     grains = {"clog": np.array([1, 1, 1, 1]), "id": np.array([5, 10, 11, 6])}
     np.testing.assert_allclose(silo2d.walk_contact_forces(grains, walks, contacts), [15, 25, 35, 45])
     # a clog without its walk, or a missing contact: NaN, not a wrong number

@@ -106,25 +106,24 @@ def pile_shape(dump_path, length):
             "residual": residual, "peak": peak}
 
 
+def pile_path(run_dir, row):
+    """The restart file of a piles.txt row (relative paths from run_dir)."""
+    path = Path(str(row["pile"]))
+    return path if path.is_absolute() else Path(run_dir) / path
+
+
 def ensemble_shapes(run_dir):
     """One dict per pile of a driver directory with a dump: the piles.txt
     columns plus the shape; piles without a dump are counted, not read."""
     run_dir = Path(run_dir)
     shapes, missing = [], 0
     for row in read_discharges(run_dir / "piles.txt"):
-        dump = Path(str(row["pile"]) + ".dump")
-        if not dump.is_absolute():
-            dump = run_dir / dump
+        dump = Path(str(pile_path(run_dir, row)) + ".dump")
         if not dump.exists():
             missing += 1
             continue
         shapes.append({**row, **pile_shape(dump, row["L"]), "run": str(run_dir)})
     return shapes, missing
-
-
-def pile_path(run_dir, row):
-    path = Path(str(row["pile"]))
-    return path if path.is_absolute() else Path(run_dir) / path
 
 
 def number_text(value):

@@ -16,7 +16,8 @@ bootstrap over seeds (a seed is one pile, discharged at every width, so
 whole seeds are resampled); w_c with the standard error of a weighted
 least-squares fit (weights 1/sigma(w_t)^2, scaled by sqrt(chi2/dof) when
 that exceeds 1) and the spread of w_c over joint bootstrap replicates of
-all sizes.
+all sizes. Beside w_t, w_50: the width where half the piles jam (keep
+more than half their height), with its bootstrap spread.
 
 CLI:  python3 -m analysis.pile2d discharges.txt --out DIR [--bootstrap 2000]
 """
@@ -133,6 +134,47 @@ def threshold_width(widths, fluctuations):
     return float(tied.mean())
 
 
+def jammed_table(rows, model, length, widths, seeds):
+    """J[i, j] = 1 where pile i kept more than half its height h0 at width
+    j (an arch held), 0 where it did not, NaN where the sample is missing:
+    the same cells as height_table's."""
+    table = np.full((len(seeds), len(widths)), np.nan)
+    column = {round(float(w), 6): j for j, w in enumerate(widths)}
+    row = {seed: i for i, seed in enumerate(seeds)}
+    for r in rows:
+        if r["model"] != model or r["L"] != length:
+            continue
+        j, i = column.get(round(r["w"], 6)), row.get(int(r["seed"]))
+        if i is not None and j is not None:
+            table[i, j] = 1.0 if r["h"] > 0.5 * r["h0"] else 0.0
+    return table
+
+
+def half_jam_width(widths, jammed):
+    """w_50: the width where the fraction of jammed piles first falls
+    through 1/2, linear between the two grid widths around the crossing
+    (a width where exactly half jam is w_50 itself); NaN if the fraction
+    never crosses 1/2 on the grid. A second statistic of the transition
+    beside w_t: it uses every pile at the two widths around the crossing,
+    not the argmax of a noisy standard deviation, so its bootstrap spread
+    is smaller; on a symmetric transition the two agree."""
+    fraction = np.nanmean(np.asarray(jammed, dtype=float), axis=0)
+    widths = np.asarray(widths, dtype=float)
+    for k in range(len(widths) - 1):
+        if fraction[k] >= 0.5 > fraction[k + 1]:
+            return float(widths[k] + (fraction[k] - 0.5) / (fraction[k] - fraction[k + 1])
+                         * (widths[k + 1] - widths[k]))
+    return math.nan
+
+
+def bootstrap_half_jam(widths, jammed, replicates, rng):
+    """w_50 of `replicates` tables of rows (seeds) drawn with replacement."""
+    jammed = np.asarray(jammed, dtype=float)
+    n = jammed.shape[0]
+    return np.array([half_jam_width(widths, jammed[rng.integers(0, n, n)])
+                     for _ in range(replicates)])
+
+
 def bootstrap_threshold(widths, table, replicates, rng):
     """w_t of `replicates` tables made of rows (seeds) drawn with
     replacement."""
@@ -220,6 +262,9 @@ def probability_density(values, bins):
 def summarize(rows, replicates=2000, seed=1, settled_only=False):
     """Per model: {L: per-width statistics} and the critical-width result."""
     rng = np.random.default_rng(seed)
+    # w_50's bootstrap draws from its own generator, so that w_t's and
+    # w_c's replicates are those of the same seed as before w_50 existed
+    rng_w50 = np.random.default_rng([seed, 50])
     models = [m for m in MODEL_ORDER if any(r["model"] == m for r in rows)]
     models += sorted({r["model"] for r in rows} - set(models))
     summary = {}
@@ -230,8 +275,13 @@ def summarize(rows, replicates=2000, seed=1, settled_only=False):
             widths, seeds, table = height_table(rows, model, length, settled_only)
             widths, table = well_sampled(widths, table)
             tables[length] = (widths, table)
+            jammed = jammed_table(rows, model, length, widths, seeds)
+            w50 = bootstrap_half_jam(widths, jammed, replicates, rng_w50)
             per_length[length] = {"widths": widths, "seeds": seeds, "table": table,
-                                  "stats": [mean_std_ci(table[:, j]) for j in range(len(widths))]}
+                                  "stats": [mean_std_ci(table[:, j]) for j in range(len(widths))],
+                                  "jammed": jammed, "w_50": half_jam_width(widths, jammed),
+                                  "w_50_sigma": float(np.nanstd(w50, ddof=1))
+                                  if np.sum(~np.isnan(w50)) > 1 else math.nan}
         summary[model] = {"lengths": per_length, "critical": critical_width(tables, replicates, rng)}
     return summary
 
@@ -242,13 +292,17 @@ def format_report(summary, rows, settled_only=False):
              f"{len(rows)} discharges; {unsettled} did not reach equilibrium within max_time "
              f"({'left out' if settled_only else 'kept'}).", ""]
     lines += ["## Threshold and critical widths", "",
-              "| model | L | piles | w_t (d) | bootstrap std (d) |", "|---|---|---|---|---|"]
+              "| model | L | piles | w_t (d) | bootstrap std (d) | w_50 (d) | bootstrap std (d) |",
+              "|---|---|---|---|---|---|---|"]
     for model, entry in summary.items():
         critical = entry["critical"]
         for length, w_t, sigma in zip(critical["L"], critical["w_t"], critical["w_t_sigma"]):
             data = entry["lengths"][length]
             edge = " (grid edge)" if w_t in (data["widths"][0], data["widths"][-1]) else ""
-            lines.append(f"| {model} | {length:g} | {len(data['seeds'])} | {w_t:.2f}{edge} | {sigma:.2f} |")
+            # w_50 off the grid (the fraction never falls through 1/2 on it): no value
+            w50 = ("| - | - |" if math.isnan(data["w_50"])
+                   else f"| {data['w_50']:.2f} | {data['w_50_sigma']:.2f} |")
+            lines.append(f"| {model} | {length:g} | {len(data['seeds'])} | {w_t:.2f}{edge} | {sigma:.2f} {w50}")
     lines += ["", "| model | w_c (d), weighted fit ± se | chi2/dof | w_c bootstrap mean ± std | paper |",
               "|---|---|---|---|---|"]
     for model, entry in summary.items():

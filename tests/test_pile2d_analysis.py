@@ -87,6 +87,30 @@ def test_bootstrap_follows_the_seeds():
     assert np.mean(values == 3.0) > 0.98
 
 
+def test_half_jam_width_by_hand():
+    # jammed fractions 1, 3/4, 1/4, 0 at w = 1..4: half between 2 and 3
+    jammed = np.array([[1, 1, 1, 0], [1, 1, 0, 0], [1, 1, 0, 0], [1, 0, 0, 0]], dtype=float)
+    assert pile2d.half_jam_width([1, 2, 3, 4], jammed) == pytest.approx(2.5)
+    # fractions 1, 0.6, 0.2: 0.5 is a quarter of the way from 0.6 to 0.2
+    jammed = np.array([[1, 1, 1], [1, 1, 0], [1, 1, 0], [1, 0, 0], [1, 0, 0]], dtype=float)
+    assert pile2d.half_jam_width([2.0, 2.4, 2.8], jammed) == pytest.approx(2.5)
+    # exactly half at a grid width: that width; missing samples are left out
+    jammed = np.array([[1, 1, 0], [1, 0, 0], [1, np.nan, 0]])
+    assert pile2d.half_jam_width([1, 2, 3], jammed) == pytest.approx(2.0)
+    # never below one half on the grid: NaN
+    assert math.isnan(pile2d.half_jam_width([1, 2], np.ones((3, 2))))
+
+
+def test_jammed_table_marks_piles_that_kept_more_than_half_their_height():
+    rows = [{"model": "fixed", "L": 50.0, "w": 3.0, "seed": 11.0, "h": 6.0, "h0": 10.0},
+            {"model": "fixed", "L": 50.0, "w": 3.4, "seed": 11.0, "h": 4.0, "h0": 10.0},
+            {"model": "fixed", "L": 50.0, "w": 3.0, "seed": 13.0, "h": 9.9, "h0": 10.0},
+            {"model": "none", "L": 50.0, "w": 3.4, "seed": 13.0, "h": 9.9, "h0": 10.0}]
+    table = pile2d.jammed_table(rows, "fixed", 50.0, [3.0, 3.4], [11, 13])
+    assert table[0].tolist() == [1.0, 0.0]
+    assert table[1, 0] == 1.0 and math.isnan(table[1, 1])
+
+
 def test_fit_critical_width_exact_line_and_standard_errors_by_hand():
     # w_t = 5 + 20 / L exactly
     lengths = [20.0, 50.0, 100.0]

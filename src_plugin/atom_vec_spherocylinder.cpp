@@ -394,8 +394,8 @@ void AtomVecSpherocylinder::data_atom(double *coord, tagint imagetmp, char **val
   if (!(norm > 0.0))
     error->one(FLERR, "atom_style spherocylinder: Atoms section has a zero quaternion");
   for (int k = 0; k < 4; ++k) q[k] /= norm;
-  double axis[3], ey[3], ez[3];
-  MathExtra::q_to_exyz(q, axis, ey, ez);
+  double axis[3];
+  axis_of_quaternion(q, axis);
   set_rod(i, diameter, length, atom->density[i], axis);
   // the quaternion as given (set_rod's is one of the many that turn x onto
   // the axis; the rod's spin about its axis is kept)
@@ -471,12 +471,6 @@ void AtomVecSpherocylinder::set_rod(int i, double diameter, double length, doubl
   inertia[i][1] = inertia[i][2] = solid.transverse_inertia;
   quaternion_turning_x_onto(axis, quaternion[i]);
   angmom_from_omega(i);
-}
-
-void AtomVecSpherocylinder::axis_of(int i, double *axis) const
-{
-  double ey[3], ez[3];
-  MathExtra::q_to_exyz(quaternion[i], axis, ey, ez);
 }
 
 // L = R I R^T omega, R the rotation of the quaternion

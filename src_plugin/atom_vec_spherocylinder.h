@@ -72,7 +72,17 @@ class AtomVecSpherocylinder : public AtomVecSphere {
   // and bounding radius; angular momentum from its omega
   void set_rod(int i, double diameter, double length, double density, const double *axis);
   // the space-frame axis of rod i (unit vector)
-  void axis_of(int i, double *axis) const;
+  void axis_of(int i, double *axis) const { axis_of_quaternion(quaternion[i], axis); }
+  // the body x axis in space, q x q*: the first of the three axes
+  // MathExtra::q_to_exyz builds, with its arithmetic (the same bits), and
+  // inline. Rods need only this one, several times per rod and step (the
+  // integrator, the list pruning, the walls, the pair style's pass)
+  static void axis_of_quaternion(const double *q, double *axis)
+  {
+    axis[0] = q[0]*q[0] + q[1]*q[1] - q[2]*q[2] - q[3]*q[3];
+    axis[1] = 2.0 * (q[1]*q[2] + q[0]*q[3]);
+    axis[2] = 2.0 * (q[1]*q[3] - q[0]*q[2]);
+  }
   // half the length of rod i's core segment, (L - d)/2 (shape holds L/2, d/2, d/2)
   double half_segment_of(int i) const { return shape[i][0] - shape[i][1]; }
 

@@ -127,8 +127,7 @@ int FixWallGranRodContacts::take_slot(double *slots, double t, double radius, co
 void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContacts &contacts)
 {
   double *slots = rod_history_->array_atom[i];
-  double axis[3], half_length, radius;
-  rod_of(i, axis, half_length, radius);
+  const double radius = atom->shape[i][1];   // d/2, as rod_of gives it
 
   // a subclass keeps at least as many slots as its geometry gives contacts
   bool taken[silokit::max_wall_contacts];

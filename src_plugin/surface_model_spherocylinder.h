@@ -50,6 +50,7 @@ SURFACE_MODEL(SURFACE_SPHEROCYLINDER,spherocylinder,7)
 #include "contact_models.h"
 #include "surface_model_base.h"
 #include "atom.h"
+#include "atom_vec_spherocylinder.h"
 #include "error.h"
 #include "math_extra.h"
 #include "spherocylinder_geometry.h"
@@ -146,8 +147,8 @@ namespace ContactModels
     {
       const int all = atom->nlocal + atom->nghost;
       axes_.resize(3*static_cast<size_t>(all));
-      double ey[3], ez[3];
-      for (int i = 0; i < all; ++i) MathExtra::q_to_exyz(atom->quaternion[i], &axes_[3*i], ey, ez);
+      for (int i = 0; i < all; ++i)
+        AtomVecSpherocylinder::axis_of_quaternion(atom->quaternion[i], &axes_[3*i]);
     }
     void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
     void tally_pp(double, int, int, int) {}

@@ -144,6 +144,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "orifice_plate.h"
 
@@ -319,16 +320,44 @@ inline void normal_of_meeting_cores(const double *a1, const double *a2, double *
   for (int j = 0; j < 3; ++j) normal[j] /= length;
 }
 
-inline RodContact rod_contact_in_given_order(const double *c1, const double *a1, double h1,
-                                             double r1, const double *c2, const double *a2,
-                                             double h2, double r2)
+// Rules 1 and 2 after a cheap test: false when the lines of the two cores
+// are `reach` or more apart (skew cores are at least as far apart as
+// their lines, |(c1 - c2).(a1 x a2)|/|a1 x a2|), else the closest points.
+// Most pairs of bounding spheres that do not touch fail here.
+inline bool closest_points_unless_lines_apart(const double *c1, const double *a1, double h1,
+                                              const double *c2, const double *a2, double h2,
+                                              double reach, double &t1, double &t2)
 {
-  RodContact contact;
-  closest_points_in_given_order(c1, a1, h1, c2, a2, h2, contact.t1, contact.t2);
+  double normal[3];
+  cross(a1, a2, normal);
+  const double sine_squared = dot(normal, normal);
+  if (sine_squared <= parallel_sine_squared) {
+    closest_points_parallel(c1, a1, h1, c2, a2, h2, t1, t2);
+    return true;
+  }
+  double offset[3];
+  for (int j = 0; j < 3; ++j) offset[j] = c1[j] - c2[j];
+  const double line_gap = dot(offset, normal);
+  if (line_gap*line_gap >= reach*reach*sine_squared) return false;
+  closest_points_skew(c1, a1, h1, c2, a2, h2, sine_squared, t1, t2);
+  return true;
+}
+
+// The core points of contact.t1 and contact.t2 and their separation.
+inline void place_core_points(const double *c1, const double *a1, const double *c2,
+                              const double *a2, RodContact &contact)
+{
   core_point(c1, a1, contact.t1, contact.core_point1);
   core_point(c2, a2, contact.t2, contact.core_point2);
   for (int j = 0; j < 3; ++j)
     contact.separation[j] = contact.core_point1[j] - contact.core_point2[j];
+}
+
+// Rules 4 and 5: distance, overlap, normal and contact point from the
+// separation of the core points.
+inline void complete_contact(const double *a1, double r1, const double *a2, double r2,
+                             RodContact &contact)
+{
   contact.distance = std::sqrt(dot(contact.separation, contact.separation));
   contact.overlap = r1 + r2 - contact.distance;
   if (contact.distance > 0.0) {
@@ -341,22 +370,44 @@ inline RodContact rod_contact_in_given_order(const double *c1, const double *a1,
   for (int j = 0; j < 3; ++j)
     contact.point[j] = 0.5*(contact.core_point1[j] + contact.core_point2[j])
                        + 0.5*(r2 - r1)*contact.normal[j];
+}
+
+inline RodContact rod_contact_in_given_order(const double *c1, const double *a1, double h1,
+                                             double r1, const double *c2, const double *a2,
+                                             double h2, double r2)
+{
+  RodContact contact;
+  closest_points_in_given_order(c1, a1, h1, c2, a2, h2, contact.t1, contact.t2);
+  place_core_points(c1, a1, c2, a2, contact);
+  complete_contact(a1, r1, a2, r2, contact);
   return contact;
 }
 
-// The same contact seen with the rods exchanged.
-inline RodContact mirrored(const RodContact &contact)
+// Whether the rods touch, and if so their contact (rod_contact_in_given_order's,
+// to the last bit): the test of cores_within (its lines, then its closest
+// points) with the closest points computed once for both.
+inline bool touching_in_given_order(const double *c1, const double *a1, double h1, double r1,
+                                    const double *c2, const double *a2, double h2, double r2,
+                                    RodContact &contact)
 {
-  RodContact result = contact;
-  result.t1 = contact.t2;
-  result.t2 = contact.t1;
+  const double reach = r1 + r2;
+  if (!closest_points_unless_lines_apart(c1, a1, h1, c2, a2, h2, reach, contact.t1, contact.t2))
+    return false;
+  place_core_points(c1, a1, c2, a2, contact);
+  if (!(dot(contact.separation, contact.separation) < reach*reach)) return false;
+  complete_contact(a1, r1, a2, r2, contact);
+  return contact.overlap > 0.0;
+}
+
+// The same contact seen with the rods exchanged, in place.
+inline void mirror(RodContact &contact)
+{
+  std::swap(contact.t1, contact.t2);
   for (int j = 0; j < 3; ++j) {
-    result.core_point1[j] = contact.core_point2[j];
-    result.core_point2[j] = contact.core_point1[j];
-    result.separation[j] = -contact.separation[j];
-    result.normal[j] = -contact.normal[j];
+    std::swap(contact.core_point1[j], contact.core_point2[j]);
+    contact.separation[j] = -contact.separation[j];
+    contact.normal[j] = -contact.normal[j];
   }
-  return result;
 }
 
 inline void add_if_touching(WallContacts &contacts, double t, const double *wall_point,
@@ -533,35 +584,46 @@ inline void closest_points_of_segments(const double *c1, const double *a1, doubl
 }
 
 // Whether the cores c1 + t1 a1 and c2 + t2 a2 come closer than `reach`
-// (the sum of the radii: whether the rods touch). The pairs LIGGGHTS
-// lists are those whose bounding spheres overlap, most of which do not
-// touch, so the cheap test comes first: skew cores are at least as far
-// apart as their lines, |(c1 - c2).(a1 x a2)|/|a1 x a2|. Symmetric in the
-// two rods to the last bit (both terms change sign together; rule 3).
+// (the sum of the radii: whether the rods touch; the list pruning adds
+// the skin). The cheap test of the lines comes first
+// (closest_points_unless_lines_apart). Computed in rule 3's order, so
+// symmetric in the two rods to the last bit.
 inline bool cores_within(const double *c1, const double *a1, double h1,
                          const double *c2, const double *a2, double h2, double reach)
 {
-  double offset[3], normal[3];
-  for (int j = 0; j < 3; ++j) offset[j] = c1[j] - c2[j];
-  rod_detail::cross(a1, a2, normal);
-  const double sine_squared = rod_detail::dot(normal, normal);
-  if (sine_squared > rod_detail::parallel_sine_squared) {
-    const double line_gap = rod_detail::dot(offset, normal);
-    if (line_gap*line_gap >= reach*reach*sine_squared) return false;
-  }
   double t1, t2;
-  closest_points_of_segments(c1, a1, h1, c2, a2, h2, t1, t2);
-  return rod_detail::squared_distance(c1, a1, t1, c2, a2, t2) < reach*reach;
+  const bool swapped = rod_detail::in_swapped_order(c1, a1, h1, c2, a2, h2);
+  const bool lines_near = swapped
+      ? rod_detail::closest_points_unless_lines_apart(c2, a2, h2, c1, a1, h1, reach, t2, t1)
+      : rod_detail::closest_points_unless_lines_apart(c1, a1, h1, c2, a2, h2, reach, t1, t2);
+  return lines_near && rod_detail::squared_distance(c1, a1, t1, c2, a2, t2) < reach*reach;
 }
 
 // Rules 1-5: the contact of rod 1 (c1, a1, h1, radius r1) with rod 2.
 inline RodContact rod_contact(const double *c1, const double *a1, double h1, double r1,
                               const double *c2, const double *a2, double h2, double r2)
 {
-  if (rod_detail::in_swapped_order(c1, a1, h1, c2, a2, h2))
-    return rod_detail::mirrored(rod_detail::rod_contact_in_given_order(c2, a2, h2, r2,
-                                                                       c1, a1, h1, r1));
-  return rod_detail::rod_contact_in_given_order(c1, a1, h1, r1, c2, a2, h2, r2);
+  if (!rod_detail::in_swapped_order(c1, a1, h1, c2, a2, h2))
+    return rod_detail::rod_contact_in_given_order(c1, a1, h1, r1, c2, a2, h2, r2);
+  RodContact contact = rod_detail::rod_contact_in_given_order(c2, a2, h2, r2, c1, a1, h1, r1);
+  rod_detail::mirror(contact);
+  return contact;
+}
+
+// Whether rod 1 (c1, a1, h1, r1) and rod 2 touch (overlap > 0), and if so
+// their contact, rod_contact's to the last bit: what the pair style needs
+// for each listed pair, most of which do not touch. The same decision as
+// cores_within(..., r1 + r2) && rod_contact(...).overlap > 0, with the
+// closest points computed once.
+inline bool rods_touching(const double *c1, const double *a1, double h1, double r1,
+                          const double *c2, const double *a2, double h2, double r2,
+                          RodContact &contact)
+{
+  if (!rod_detail::in_swapped_order(c1, a1, h1, c2, a2, h2))
+    return rod_detail::touching_in_given_order(c1, a1, h1, r1, c2, a2, h2, r2, contact);
+  if (!rod_detail::touching_in_given_order(c2, a2, h2, r2, c1, a1, h1, r1, contact)) return false;
+  rod_detail::mirror(contact);
+  return true;
 }
 
 // Rule 6: the rod (c, a, h, r) against the plane through `plane_point`

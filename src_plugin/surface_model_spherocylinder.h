@@ -23,9 +23,10 @@
      list does not compute it again.
    - checkSurfaceIntersect (the narrow phase after the bounding-sphere
      test of PairGranBase): whether the core segments come closer than
-     the sum of the rods' radii (cores_within: most listed pairs are
-     rejected by the distance of their lines alone), then, for a pair
-     that touches, the contact (spherocylinder_geometry.h). The pair is
+     the sum of the rods' radii and, for a pair that touches, the contact
+     (rods_touching, spherocylinder_geometry.h: the listed pairs that do
+     not touch are mostly rejected by the distance of their lines alone,
+     and the closest points of the others are computed once). The pair is
      taken in the order of the atom tags, so that the two ranks that
      compute a pair crossing a processor boundary (newton off, as history
      needs) find the same points to the last bit.
@@ -90,9 +91,8 @@ namespace ContactModels
       const double *centre2 = atom->x[second], *axis2 = &axes_[3*second];
       const double h1 = half_segment(first), h2 = half_segment(second);
       const double r1 = radius_of(first), r2 = radius_of(second);
-      if (!silokit::cores_within(centre1, axis1, h1, centre2, axis2, h2, r1 + r2)) return false;
-      const silokit::RodContact contact = silokit::rod_contact(centre1, axis1, h1, r1, centre2, axis2, h2, r2);
-      if (contact.overlap <= 0.0) return false;
+      silokit::RodContact contact;
+      if (!silokit::rods_touching(centre1, axis1, h1, r1, centre2, axis2, h2, r2, contact)) return false;
       // en from j to i, as for spheres
       const double sign = swapped ? -1.0 : 1.0;
       for (int k = 0; k < 3; ++k) {

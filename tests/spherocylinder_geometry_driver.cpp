@@ -8,6 +8,8 @@
 //   rod_contact <rod 1> <rod 2>                    rod_contact t1 t2 distance overlap
 //                                                    separation(3) normal(3) point(3)
 //   within <rod 1> <rod 2>                         within 1|0 (cores_within, reach r1 + r2)
+//   touching <rod 1> <rod 2>                       touching 0, or touching 1 and the
+//                                                    numbers of rod_contact (rods_touching)
 //   plane <rod> p0 n                               contacts <n> then, per contact,
 //   cylinder <rod> axis_point axis Rc                t wall_point(3) normal(3) overlap
 //   plate <rod> centre axis R
@@ -61,17 +63,32 @@ void segments(const double *v)
   std::printf("segments %.17g %.17g\n", t1, t2);
 }
 
-// values: rod 1 (8), rod 2 (8)
-void rod_contact(const double *v)
+void print_rod_contact(const silokit::RodContact &contact)
 {
-  const silokit::RodContact contact =
-      silokit::rod_contact(v, v + 3, v[6], v[7], v + 8, v + 11, v[14], v[15]);
-  std::printf("rod_contact %.17g %.17g %.17g %.17g", contact.t1, contact.t2, contact.distance,
-              contact.overlap);
+  std::printf(" %.17g %.17g %.17g %.17g", contact.t1, contact.t2, contact.distance, contact.overlap);
   print_numbers(contact.separation, 3);
   print_numbers(contact.normal, 3);
   print_numbers(contact.point, 3);
   std::printf("\n");
+}
+
+// values: rod 1 (8), rod 2 (8)
+void rod_contact(const double *v)
+{
+  std::printf("rod_contact");
+  print_rod_contact(silokit::rod_contact(v, v + 3, v[6], v[7], v + 8, v + 11, v[14], v[15]));
+}
+
+// values: rod 1 (8), rod 2 (8)
+void touching(const double *v)
+{
+  silokit::RodContact contact;
+  if (!silokit::rods_touching(v, v + 3, v[6], v[7], v + 8, v + 11, v[14], v[15], contact)) {
+    std::printf("touching 0\n");
+    return;
+  }
+  std::printf("touching 1");
+  print_rod_contact(contact);
 }
 
 // values: point(3) centre(3) axis(3) R
@@ -102,6 +119,9 @@ bool run(std::istream &in, const std::string &command)
   } else if (command == "rod_contact") {
     if (!read_numbers(in, 16, v)) return false;
     rod_contact(v);
+  } else if (command == "touching") {  // rod 1 (8), rod 2 (8)
+    if (!read_numbers(in, 16, v)) return false;
+    touching(v);
   } else if (command == "within") {     // rod 1 (8), rod 2 (8)
     if (!read_numbers(in, 16, v)) return false;
     std::printf("within %d\n", silokit::cores_within(v, v + 3, v[6], v + 8, v + 11, v[14], v[7] + v[15]) ? 1 : 0);

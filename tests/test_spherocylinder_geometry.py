@@ -115,6 +115,11 @@ class Driver:
         return [RodContact(*row[:4], np.array(row[4:7]), np.array(row[7:10]), np.array(row[10:13]))
                 for row in rows]
 
+    def touching(self, pairs):
+        """None for rods that do not touch, else the numbers of rod_contact."""
+        rows = self.run([f"touching {rod_words(a)} {rod_words(b)}" for a, b in pairs])
+        return [row[1:] if row[0] == 1.0 else None for row in rows]
+
     def within(self, pairs):
         return [row[0] == 1.0 for row in self.run([f"within {rod_words(a)} {rod_words(b)}" for a, b in pairs])]
 
@@ -435,18 +440,24 @@ def random_rod(generator, radius=0.25, degenerate_fraction=0.1):
     return Rod(generator.uniform(-1.5, 1.5, 3), generator.normal(size=3), half_length, radius)
 
 
+def pairs_near_touching(seed, count=400):
+    """Random pairs of rods with radii from 0.1 to 1.2: about half touch."""
+    generator = np.random.default_rng(seed)
+    pairs = []
+    for _ in range(count):
+        rod1, rod2 = random_rod(generator), random_rod(generator)
+        rod1 = Rod(rod1.centre, rod1.axis, rod1.half_length, generator.uniform(0.1, 1.2))
+        rod2 = Rod(rod2.centre, rod2.axis, rod2.half_length, generator.uniform(0.1, 1.2))
+        pairs.append((rod1, rod2))
+    return pairs
+
+
 def test_the_quick_touch_test_agrees_with_brute_force(driver):
     """cores_within (the line-distance rejection, then the closest points)
     says two rods touch exactly when the brute-force distance of their
     cores is below the sum of the radii; pairs are drawn near touching
     (radii from 0.1 to 1.2), and both answers occur often."""
-    generator = np.random.default_rng(20261124)
-    pairs = []
-    for _ in range(400):
-        rod1, rod2 = random_rod(generator), random_rod(generator)
-        rod1 = Rod(rod1.centre, rod1.axis, rod1.half_length, generator.uniform(0.1, 1.2))
-        rod2 = Rod(rod2.centre, rod2.axis, rod2.half_length, generator.uniform(0.1, 1.2))
-        pairs.append((rod1, rod2))
+    pairs = pairs_near_touching(20261124)
     answers = driver.within(pairs)
     swapped = driver.within([(b, a) for a, b in pairs])
     assert answers == swapped
@@ -458,6 +469,31 @@ def test_the_quick_touch_test_agrees_with_brute_force(driver):
             assert within == (distance < reach)
         touching += within
     assert 80 < touching < 320
+
+
+def test_rods_touching_is_the_touch_test_and_the_contact(driver):
+    """rods_touching, the pair style's one call per listed pair, says two
+    rods touch exactly when cores_within does and rod_contact's overlap is
+    > 0, and then gives rod_contact's numbers to the last bit, in either
+    order of the rods; among the pairs, parallel and antiparallel ones
+    (rule 2) and cores that meet (rule 5)."""
+    pairs = pairs_near_touching(20261125)
+    for k in range(0, len(pairs), 10):     # every tenth pair (anti)parallel
+        rod1, rod2 = pairs[k]
+        axis = rod1.axis if k % 20 == 0 else -rod1.axis
+        pairs[k] = (rod1, Rod(rod2.centre, axis, rod2.half_length, rod2.radius))
+    crossing = Rod((0, 0, 0), X, 1.0, 0.3)
+    pairs += [(crossing, Rod((0.2, 0, 0), Y, 1.0, 0.3)), (crossing, Rod((0.5, 0, 0), X, 0.5, 0.3))]
+    touching_count = 0
+    for ordered in (pairs, [(b, a) for a, b in pairs]):
+        expected = driver.run([f"rod_contact {rod_words(a)} {rod_words(b)}" for a, b in ordered])
+        within = driver.within(ordered)
+        for numbers, inside, touching in zip(expected, within, driver.touching(ordered)):
+            assert (touching is not None) == (inside and numbers[3] > 0.0)
+            if touching is not None:
+                assert touching == numbers
+                touching_count += 1
+    assert 200 < touching_count < 600
 
 
 def test_random_segments_match_brute_force(driver):

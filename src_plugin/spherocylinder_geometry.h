@@ -28,9 +28,10 @@
    1. The closest points of the two core segments minimise
       |c1 + t1 a1 - c2 - t2 a2| over [-h1, h1] x [-h2, h2] (the clamped
       solution of Vega & Lago 1994). The square is a convex quadratic: its
-      stationary point when it lies in the rectangle, else the best of the
-      four edges, on each of which the minimum is an exact clamped
-      projection.
+      stationary point when it lies in the rectangle, else its minimum on
+      the edges, found by clamping and projecting from one segment onto
+      the other, at most twice (each edge's minimum is an exact clamped
+      projection).
    2. Parallel or antiparallel axes (|a1 x a2|^2 <= 1e-16, an angle below
       1e-8 rad) have a whole interval of closest points when their
       projections overlap: the middle of that overlap is taken on each
@@ -260,10 +261,17 @@ inline void closest_points_parallel(const double *c1, const double *a1, double h
   t2 = clamp(e2 + b*t1, h2);
 }
 
-// Rule 1 for axes that are not parallel. At the stationary point t2 is
-// the projection of point t1 on axis 2; taking it so (rather than from
-// its own formula) keeps the pair consistent when the formula for t1
-// loses digits at small angles.
+// Rule 1 for axes that are not parallel. The stationary point's t1,
+// (b e2 - e1)/sin^2, is clamped into segment 1 and its point projected
+// on segment 2; when that projection falls outside segment 2 it is
+// clamped, and its point projected back on segment 1 (clamped). For the
+// strictly convex square of the distance this ends on its minimum over
+// the rectangle |t1| <= h1, |t2| <= h2 (Ericson, Real-Time Collision
+// Detection, 2005, sec. 5.1.9): the best of its four edges, with at most
+// two projections instead of four edge points and their distances. At
+// the stationary point t2 is the projection of point t1 on axis 2;
+// taking it so (rather than from its own formula) keeps the pair
+// consistent when the formula for t1 loses digits at small angles.
 inline void closest_points_skew(const double *c1, const double *a1, double h1,
                                 const double *c2, const double *a2, double h2,
                                 double sine_squared, double &t1, double &t2)
@@ -271,27 +279,10 @@ inline void closest_points_skew(const double *c1, const double *a1, double h1,
   double offset[3];
   for (int j = 0; j < 3; ++j) offset[j] = c1[j] - c2[j];
   const double b = dot(a1, a2), e1 = dot(a1, offset), e2 = dot(a2, offset);
-  const double t1_free = (b*e2 - e1)/sine_squared;
-  const double t2_free = e2 + b*t1_free;
-  if (std::fabs(t1_free) <= h1 && std::fabs(t2_free) <= h2) {
-    t1 = t1_free;
-    t2 = t2_free;
-    return;
-  }
-  // on an edge: one parameter at an end, the other the clamped projection
-  double best = -1.0;
-  for (int side = -1; side <= 1; side += 2) {
-    const double edge_t1[2] = {side*h1, clamp(side*b*h2 - e1, h1)};
-    const double edge_t2[2] = {clamp(e2 + side*b*h1, h2), side*h2};
-    for (int k = 0; k < 2; ++k) {
-      const double squared = squared_distance(c1, a1, edge_t1[k], c2, a2, edge_t2[k]);
-      if (best < 0.0 || squared < best) {
-        best = squared;
-        t1 = edge_t1[k];
-        t2 = edge_t2[k];
-      }
-    }
-  }
+  t1 = clamp((b*e2 - e1)/sine_squared, h1);
+  const double t2_projected = e2 + b*t1;
+  t2 = clamp(t2_projected, h2);
+  if (t2 != t2_projected) t1 = clamp(b*t2 - e1, h1);
 }
 
 inline void closest_points_in_given_order(const double *c1, const double *a1, double h1,

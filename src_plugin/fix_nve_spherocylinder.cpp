@@ -123,11 +123,19 @@ void FixNVESpherocylinder::init()
 
 void FixNVESpherocylinder::initial_integrate(int vflag)
 {
-  if (pruning_) pruning_->before_move(groupbit);
-  if (symmetric_top_) symmetric_top_first_half();
-  else FixNVEAsphereBase::initial_integrate(vflag);
+  bool build = false;
+  if (symmetric_top_) {
+    // the rods' travel is added rod by rod, as each moves
+    if (pruning_) pruning_->start_moves();
+    symmetric_top_first_half();
+    build = pruning_ && pruning_->build_needed();
+  } else {
+    if (pruning_) pruning_->before_move(groupbit);
+    FixNVEAsphereBase::initial_integrate(vflag);
+    build = pruning_ && pruning_->after_move(groupbit);
+  }
   // Neighbor::decide runs after the integration, in this step
-  if (pruning_ && pruning_->after_move(groupbit)) next_reneighbor = update->ntimestep;
+  if (build) next_reneighbor = update->ntimestep;
 }
 
 void FixNVESpherocylinder::final_integrate()
@@ -185,10 +193,12 @@ void FixNVESpherocylinder::symmetric_top_first_half()
   for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
     half_kick(i);
+    const double old_centre[3] = {x[i][0], x[i][1], x[i][2]};
     for (int k = 0; k < 3; ++k) x[i][k] += dtv*v[i][k];
     const double axial = inertia[i][0], transverse = inertia[i][1];
-    double axis[3];
-    rods_->axis_of(i, axis);
+    double old_axis[3], axis[3];
+    rods_->axis_of(i, old_axis);
+    for (int k = 0; k < 3; ++k) axis[k] = old_axis[k];
     const double along = angmom[i][0]*axis[0] + angmom[i][1]*axis[1] + angmom[i][2]*axis[2];
     const double size = std::sqrt(angmom[i][0]*angmom[i][0] + angmom[i][1]*angmom[i][1] +
                                   angmom[i][2]*angmom[i][2]);
@@ -205,6 +215,7 @@ void FixNVESpherocylinder::symmetric_top_first_half()
       rods_->axis_of(i, axis);
     }
     top_omega(angmom[i], axis, axial, transverse, omega[i]);
+    if (pruning_) pruning_->add_move(i, old_centre, old_axis, axis);
   }
 }
 

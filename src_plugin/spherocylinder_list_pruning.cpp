@@ -27,7 +27,7 @@ using namespace LAMMPS_NS;
 SpherocylinderListPruning::SpherocylinderListPruning(LAMMPS *lmp) :
   Pointers(lmp),
   avec_(dynamic_cast<AtomVecSpherocylinder *>(atom->avec)),
-  pairs_listed_(0.0), pairs_kept_(0.0), builds_asked_(0.0)
+  farthest_(0.0), pairs_listed_(0.0), pairs_kept_(0.0), builds_asked_(0.0)
 {}
 
 void SpherocylinderListPruning::before_move(int groupbit)
@@ -44,27 +44,43 @@ void SpherocylinderListPruning::before_move(int groupbit)
 
 bool SpherocylinderListPruning::after_move(int groupbit)
 {
-  const int nlocal = atom->nlocal;
+  start_moves();
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    double axis[3];
+    avec_->axis_of(i, axis);
+    add_move(i, &old_centre_[3*i], &old_axis_[3*i], axis);
+  }
+  return build_needed();
+}
+
+void SpherocylinderListPruning::start_moves()
+{
   // atoms arrive only with a build, which restarts the sums; a longer
   // array here would be a fix that added atoms without one: count them
   // from zero, as the centre check of LIGGGHTS does from their position
-  if (travel_.size() < static_cast<size_t>(nlocal)) travel_.resize(nlocal, 0.0);
-  double farthest = 0.0;
-  for (int i = 0; i < nlocal; ++i) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    double axis[3], moved = 0.0, turned = 0.0;
-    avec_->axis_of(i, axis);
-    for (int k = 0; k < 3; ++k) {
-      const double dx = atom->x[i][k] - old_centre_[3*i + k];
-      const double du = axis[k] - old_axis_[3*i + k];
-      moved += dx*dx;
-      turned += du*du;
-    }
-    travel_[i] += std::sqrt(moved) + avec_->half_segment_of(i)*std::sqrt(turned);
-    farthest = std::max(farthest, travel_[i]);
+  if (travel_.size() < static_cast<size_t>(atom->nlocal)) travel_.resize(atom->nlocal, 0.0);
+  farthest_ = 0.0;
+}
+
+void SpherocylinderListPruning::add_move(int i, const double *old_centre, const double *old_axis,
+                                         const double *axis)
+{
+  double moved = 0.0, turned = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double dx = atom->x[i][k] - old_centre[k];
+    const double du = axis[k] - old_axis[k];
+    moved += dx*dx;
+    turned += du*du;
   }
-  double farthest_anywhere = farthest;
-  MPI_Allreduce(&farthest, &farthest_anywhere, 1, MPI_DOUBLE, MPI_MAX, world);
+  travel_[i] += std::sqrt(moved) + avec_->half_segment_of(i)*std::sqrt(turned);
+  farthest_ = std::max(farthest_, travel_[i]);
+}
+
+bool SpherocylinderListPruning::build_needed()
+{
+  double farthest_anywhere = farthest_;
+  MPI_Allreduce(&farthest_, &farthest_anywhere, 1, MPI_DOUBLE, MPI_MAX, world);
   const bool build = farthest_anywhere > 0.5*neighbor->skin;
   if (build) builds_asked_ += 1.0;
   return build;

@@ -22,9 +22,11 @@
    valid between builds: atoms change rank or order only at a build.
 
    Used by fix nve/spherocylinder (keyword prune_list, default yes):
-   before_move/after_move around the integrator's position update, and
-   prune_after_build in pre_force. Documentation: doc/spherocylinder.md,
-   "Neighbour list".
+   before_move/after_move around the integrator's position update (or, by
+   an integrator that has each rod's centre and axis before and after its
+   move at hand, start_moves, add_move per rod and build_needed, which
+   spares computing them again), and prune_after_build in pre_force.
+   Documentation: doc/spherocylinder.md, "Neighbour list".
 ------------------------------------------------------------------------- */
 
 #ifndef SILOKIT_SPHEROCYLINDER_LIST_PRUNING_H
@@ -45,6 +47,12 @@ class SpherocylinderListPruning : protected Pointers {
   // after the move: add each rod's travel bound; true on every rank when
   // some rod anywhere has travelled more than skin/2 since the last build
   bool after_move(int groupbit);
+  // the same, rod by rod: start_moves before the first add_move of the
+  // step, add_move once the rod has moved (x holds its new centre),
+  // build_needed after the last one (on every rank: it communicates)
+  void start_moves();
+  void add_move(int i, const double *old_centre, const double *old_axis, const double *axis);
+  bool build_needed();
   // if the list was built this step: cut it and restart the travel sums
   void prune_after_build();
 
@@ -59,6 +67,8 @@ class SpherocylinderListPruning : protected Pointers {
 
   class AtomVecSpherocylinder *avec_;
   std::vector<double> old_centre_, old_axis_, travel_, axes_;
+  // the largest travel_ of this step's moves on this rank
+  double farthest_;
   double pairs_listed_, pairs_kept_, builds_asked_;
 };
 

@@ -137,9 +137,11 @@ void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContac
     slot_of[c] = take_slot(slots, contacts.contact[c].t, radius, taken);
     taken[slot_of[c]] = true;
   }
-  // slots no contact took: the contacts they held have ended
+  // slots no contact took: the contacts they held have ended (a slot not
+  // in use is all zero already: most rods near a wall do not touch it)
   for (int s = 0; s < slots_; ++s)
-    if (!taken[s]) std::memset(slots + s*slot_size(), 0, slot_size()*sizeof(double));
+    if (!taken[s] && slots[s*slot_size()] != 0.0)
+      std::memset(slots + s*slot_size(), 0, slot_size()*sizeof(double));
 
   LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
   sidata.is_wall = true;

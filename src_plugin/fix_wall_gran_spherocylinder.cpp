@@ -77,25 +77,29 @@ void FixWallGranSpherocylinder::post_force_primitive(int vflag)
   const int count = primitiveWall_->getNeighbors(neighbors);
   for (int n = 0; n < count; ++n) {
     const int i = neighbors[n];
-    if (!(mask[i] & groupbit)) continue;
-    double axis[3], half_length, radius;
-    rod_of(i, axis, half_length, radius);
-    const double *centre = atom->x[i];
-    silokit::WallContacts contacts;
-    if (shape_ == PLANE) {
-      // either side: the one the rod's centre is on
-      double side[3];
-      double height = 0.0;
-      for (int k = 0; k < 3; ++k) height += (centre[k] - point_[k])*normal_[k];
-      for (int k = 0; k < 3; ++k) side[k] = height >= 0.0 ? normal_[k] : -normal_[k];
-      contacts = silokit::rod_plane_contacts(centre, axis, half_length, radius, point_, side);
-    } else {
-      const double dx = centre[0] - point_[0], dy = centre[1] - point_[1];
-      if (dx*dx + dy*dy > radius_*radius_)
-        error->one(FLERR, "fix wall/gran/spherocylinder: a rod's centre is outside the zcylinder; "
-                          "rods are held inside a cylinder only");
-      contacts = silokit::rod_cylinder_contacts(centre, axis, half_length, radius, point_, normal_, radius_);
-    }
-    apply_rod_contacts(i, contacts);
+    if (mask[i] & groupbit) apply_rod_contacts(i, contacts_of(i));
   }
+}
+
+// Returned by value straight into apply_rod_contacts' argument: an
+// assignment would copy the 33 words of WallContacts for every rod near
+// the wall, a third of the cost of its contacts with a plane.
+silokit::WallContacts FixWallGranSpherocylinder::contacts_of(int i) const
+{
+  double axis[3], half_length, radius;
+  rod_of(i, axis, half_length, radius);
+  const double *centre = atom->x[i];
+  if (shape_ == PLANE) {
+    // either side: the one the rod's centre is on
+    double side[3];
+    double height = 0.0;
+    for (int k = 0; k < 3; ++k) height += (centre[k] - point_[k])*normal_[k];
+    for (int k = 0; k < 3; ++k) side[k] = height >= 0.0 ? normal_[k] : -normal_[k];
+    return silokit::rod_plane_contacts(centre, axis, half_length, radius, point_, side);
+  }
+  const double dx = centre[0] - point_[0], dy = centre[1] - point_[1];
+  if (dx*dx + dy*dy > radius_*radius_)
+    error->one(FLERR, "fix wall/gran/spherocylinder: a rod's centre is outside the zcylinder; "
+                      "rods are held inside a cylinder only");
+  return silokit::rod_cylinder_contacts(centre, axis, half_length, radius, point_, normal_, radius_);
 }

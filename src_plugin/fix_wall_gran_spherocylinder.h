@@ -44,6 +44,8 @@ class FixWallGranSpherocylinder : public FixWallGranRodContacts {
   double radius_;       // the cylinder's
 
   void read_primitive(int narg, char **arg);
+  // rod i's contacts with the wall
+  silokit::WallContacts contacts_of(int i) const;
 };
 
 }

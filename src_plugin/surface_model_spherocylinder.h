@@ -24,9 +24,9 @@
    - checkSurfaceIntersect (the narrow phase after the bounding-sphere
      test of PairGranBase): whether the core segments come closer than
      the sum of the rods' radii and, for a pair that touches, the contact
-     (rods_touching, spherocylinder_geometry.h: the listed pairs that do
-     not touch are mostly rejected by the distance of their lines alone,
-     and the closest points of the others are computed once). The pair is
+     (rods_touching, spherocylinder_geometry.h: the distance of the two
+     core lines rejects some of the pairs that do not touch cheaply, and
+     the closest points of the others are computed once). The pair is
      taken in the order of the atom tags, so that the two ranks that
      compute a pair crossing a processor boundary (newton off, as history
      needs) find the same points to the last bit.

@@ -255,6 +255,8 @@ def test_pile_declared_in_equilibrium_stays_when_run_on(quick_pile, tmp_path):
     ("in.build", {"quick": 1, "model": "rough"}, "rolling model rough (known: none, overlap, depth, fixed)"),
     ("in.discharge", {"w": -1}, "in.discharge: ERROR: w = -1 must be > 0"),
     ("in.build", {"quick": 1, "substrate_lc": 0.2}, "substrate_lc = 0.2 must be in [0, 0.1 d]"),
+    ("in.build", {"quick": 1, "model": "fixed", "l_c": 0}, "l_c = 0 must be in (0, 0.5 d]"),
+    ("in.build", {"quick": 1, "model": "fixed", "l_c": 0.6}, "l_c = 0.6 must be in (0, 0.5 d]"),
     ("in.runon", {"time": 0}, "in.runon: ERROR: time = 0 must be > 0"),
 ])
 def test_bad_deck_values_stop_with_an_error(tmp_path, name, variables, expected):

@@ -134,20 +134,14 @@ def threshold_width(widths, fluctuations):
     return float(tied.mean())
 
 
-def jammed_table(rows, model, length, widths, seeds):
-    """J[i, j] = 1 where pile i kept more than half its height h0 at width
-    j (an arch held), 0 where it did not, NaN where the sample is missing:
-    the same cells as height_table's."""
-    table = np.full((len(seeds), len(widths)), np.nan)
-    column = {round(float(w), 6): j for j, w in enumerate(widths)}
-    row = {seed: i for i, seed in enumerate(seeds)}
-    for r in rows:
-        if r["model"] != model or r["L"] != length:
-            continue
-        j, i = column.get(round(r["w"], 6)), row.get(int(r["seed"]))
-        if i is not None and j is not None:
-            table[i, j] = 1.0 if r["h"] > 0.5 * r["h0"] else 0.0
-    return table
+def jammed_table(table, h0):
+    """J[i, j] = 1 where pile i kept more than half its height h0[i] at
+    width j (an arch held), 0 where it did not, NaN where height_table's
+    cell is missing."""
+    table = np.asarray(table, dtype=float)
+    jammed = (table > 0.5 * np.asarray(h0, dtype=float)[:, None]).astype(float)
+    jammed[np.isnan(table)] = np.nan
+    return jammed
 
 
 def half_jam_width(widths, jammed):
@@ -275,7 +269,9 @@ def summarize(rows, replicates=2000, seed=1, settled_only=False):
             widths, seeds, table = height_table(rows, model, length, settled_only)
             widths, table = well_sampled(widths, table)
             tables[length] = (widths, table)
-            jammed = jammed_table(rows, model, length, widths, seeds)
+            # h0 is the pile's, the same on each of its rows
+            h0 = {int(r["seed"]): r["h0"] for r in rows if r["model"] == model and r["L"] == length}
+            jammed = jammed_table(table, [h0[s] for s in seeds])
             w50 = bootstrap_half_jam(widths, jammed, replicates, rng_w50)
             per_length[length] = {"widths": widths, "seeds": seeds, "table": table,
                                   "stats": [mean_std_ci(table[:, j]) for j in range(len(widths))],

@@ -102,13 +102,13 @@ def test_half_jam_width_by_hand():
 
 
 def test_jammed_table_marks_piles_that_kept_more_than_half_their_height():
-    rows = [{"model": "fixed", "L": 50.0, "w": 3.0, "seed": 11.0, "h": 6.0, "h0": 10.0},
-            {"model": "fixed", "L": 50.0, "w": 3.4, "seed": 11.0, "h": 4.0, "h0": 10.0},
-            {"model": "fixed", "L": 50.0, "w": 3.0, "seed": 13.0, "h": 9.9, "h0": 10.0},
-            {"model": "none", "L": 50.0, "w": 3.4, "seed": 13.0, "h": 9.9, "h0": 10.0}]
-    table = pile2d.jammed_table(rows, "fixed", 50.0, [3.0, 3.4], [11, 13])
-    assert table[0].tolist() == [1.0, 0.0]
-    assert table[1, 0] == 1.0 and math.isnan(table[1, 1])
+    # pile 0 (h0 10): h 6 and 4 at two widths; pile 1 (h0 10): 9.9, missing
+    table = np.array([[6.0, 4.0], [9.9, np.nan]])
+    jammed = pile2d.jammed_table(table, [10.0, 10.0])
+    assert jammed[0].tolist() == [1.0, 0.0]
+    assert jammed[1, 0] == 1.0 and math.isnan(jammed[1, 1])
+    # exactly half is not a jam
+    assert pile2d.jammed_table([[5.0]], [10.0])[0, 0] == 0.0
 
 
 def test_fit_critical_width_exact_line_and_standard_errors_by_hand():

@@ -250,6 +250,20 @@ def test_pile_declared_in_equilibrium_stays_when_run_on(quick_pile, tmp_path):
     assert record["status"] == 1
 
 
+def test_rain_fill_and_height_change_the_rows_and_where_they_start(tmp_path):
+    """-var fill and -var rain_height reach fix insert/rain2d: with fill 0.25
+    a row of the L = 20 d substrate holds floor(0.25 L / d) = 5 grains, and
+    released at rest from y = 30 d (above the box top of the default, L + 2)
+    the highest centre ever seen is just under 30 d: dumped every 100 steps
+    (0.28 sqrt(d/g)), a row is seen at most 0.04 d below its release line."""
+    record = build(tmp_path, fill=0.25, rain_height=30, dump_every=100)
+    assert record["status"] == 1
+    assert record["inserted"] == 5 * record["rows"] and record["rows"] > 20
+    highest = max(float(columns["y"][columns["type"] == 1].max(initial=-1.0))
+                  for _, columns in read_dump(tmp_path / "dump.build"))
+    assert 29.96 < highest <= 30.0
+
+
 @pytest.mark.parametrize("name, variables, expected", [
     ("in.build", {"L": 20.05}, "in.build: ERROR: L = 20.05 must be a multiple of substrate_d = 0.1"),
     ("in.build", {"quick": 1, "model": "rough"}, "rolling model rough (known: none, overlap, depth, fixed)"),
@@ -257,6 +271,9 @@ def test_pile_declared_in_equilibrium_stays_when_run_on(quick_pile, tmp_path):
     ("in.build", {"quick": 1, "substrate_lc": 0.2}, "substrate_lc = 0.2 must be in [0, 0.1 d]"),
     ("in.build", {"quick": 1, "model": "fixed", "l_c": 0}, "l_c = 0 must be in (0, 0.5 d]"),
     ("in.build", {"quick": 1, "model": "fixed", "l_c": 0.6}, "l_c = 0.6 must be in (0, 0.5 d]"),
+    ("in.build", {"quick": 1, "fill": 0}, "fill = 0 must be in (0, 1)"),
+    ("in.build", {"quick": 1, "fill": 1}, "fill = 1 must be in (0, 1)"),
+    ("in.build", {"quick": 1, "rain_height": 4}, "rain_height = 4 must be at least 5 d"),
     ("in.runon", {"time": 0}, "in.runon: ERROR: time = 0 must be > 0"),
 ])
 def test_bad_deck_values_stop_with_an_error(tmp_path, name, variables, expected):

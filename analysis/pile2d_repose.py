@@ -14,7 +14,10 @@ least-squares fit of top(x) = c - s |x - x_peak| over the lines 1 d or
 more from the substrate's ends and from the peak (x_peak the centre of the
 pile's mass): a pile that spread flat has s = 0, a triangle of repose
 angle theta filling the substrate has s = tan(theta). With the grain-scale
-roughness of the surface, the fit's residual is about 0.3 d.
+roughness of the surface, the fit's residual is about 0.3 d. The piles
+have a summit some 10 d wide whose slope is not the flank's (steeper at
+L <= 100 d, rounded at 200 d), so over the whole flank s drifts with L;
+--peak-margin 10 fits the flank beyond it, the angle of repose proper.
 
 Run-on check (--run-on FACTOR): each pile is read back and run on, with
 nothing changed, for FACTOR times the time its relaxation took (t_end -
@@ -29,7 +32,7 @@ below 0.75 d) move: mean |v_x| and mean |v_x + omega_z r|, the slip at the
 substrate (0 for a disc rolling without sliding, |v_x| for one sliding
 without turning).
 
-CLI:  python3 -m analysis.pile2d_repose RUN_DIR [RUN_DIR ...] [--run-on 10 [--run-on-L 20 50] [-j 2]]
+CLI:  python3 -m analysis.pile2d_repose RUN_DIR [RUN_DIR ...] [--peak-margin 10] [--run-on 10 [--run-on-L 20 50] [-j 2]]
       python3 -m analysis.pile2d_repose --base-motion dump.build 0.0028065
 """
 
@@ -91,8 +94,9 @@ def flank_slope(lines, top, peak, length, edge_margin=EDGE_MARGIN, peak_margin=P
     return float(coefficients[1]), float(np.sqrt(np.mean(residual ** 2)))
 
 
-def pile_shape(dump_path, length):
-    """Shape of one equilibrated pile: grains, peak height, slope, angle."""
+def pile_shape(dump_path, length, peak_margin=PEAK_MARGIN):
+    """Shape of one equilibrated pile: grains, peak height, slope, angle
+    (of the flank peak_margin d or more from the peak)."""
     atoms = read_dump(dump_path)[-1][1]
     free = atoms["type"] == 1
     x, y, r = atoms["x"][free], atoms["y"][free], atoms["radius"][free]
@@ -100,7 +104,7 @@ def pile_shape(dump_path, length):
     x, y, r = x[on_substrate], y[on_substrate], r[on_substrate]
     lines, top = surface(x, y, r, length)
     peak = float(np.sum(x * r * r) / np.sum(r * r)) if x.size else 0.0
-    slope, residual = flank_slope(lines, top, peak, length)
+    slope, residual = flank_slope(lines, top, peak, length, peak_margin=peak_margin)
     return {"grains": int(x.size), "top": float(top.max()) if top.size else 0.0,
             "slope": slope, "angle": math.degrees(math.atan(slope)) if slope == slope else math.nan,
             "residual": residual, "peak": peak}
@@ -112,7 +116,7 @@ def pile_path(run_dir, row):
     return path if path.is_absolute() else Path(run_dir) / path
 
 
-def ensemble_shapes(run_dir):
+def ensemble_shapes(run_dir, peak_margin=PEAK_MARGIN):
     """One dict per pile of a driver directory with a dump: the piles.txt
     columns plus the shape; piles without a dump are counted, not read."""
     run_dir = Path(run_dir)
@@ -122,7 +126,7 @@ def ensemble_shapes(run_dir):
         if not dump.exists():
             missing += 1
             continue
-        shapes.append({**row, **pile_shape(dump, row["L"]), "run": str(run_dir)})
+        shapes.append({**row, **pile_shape(dump, row["L"], peak_margin), "run": str(run_dir)})
     return shapes, missing
 
 
@@ -262,6 +266,9 @@ def main(argv=None):
     parser.add_argument("--run-on-L", dest="run_on_L", nargs="+", type=float, default=None,
                         help="only the piles of these L")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="run-on runs at once")
+    parser.add_argument("--peak-margin", dest="peak_margin", type=float, default=PEAK_MARGIN,
+                        metavar="D", help="fit the flank this far (in d) or more from the peak "
+                        f"(default {PEAK_MARGIN:g}; 10 leaves out the summit, doc/pile2d.md)")
     parser.add_argument("--write", type=Path, default=None, metavar="FILE",
                         help="also write one line per pile (its run, record columns and shape)")
     args = parser.parse_args(argv)
@@ -273,6 +280,8 @@ def main(argv=None):
         return 0
     if not args.runs:
         parser.error("give RUN_DIR(s) or --base-motion")
+    if not args.peak_margin >= 0:
+        parser.error("--peak-margin: D must be >= 0")
     if args.run_on is not None:
         if not args.run_on > 0:
             parser.error("--run-on: FACTOR must be > 0")
@@ -283,7 +292,7 @@ def main(argv=None):
             print(f"run-on failed for {failures} (logs/runon_*.txt)", file=sys.stderr)
     shapes = []
     for run in args.runs:
-        found, missing = ensemble_shapes(run)
+        found, missing = ensemble_shapes(run, args.peak_margin)
         if missing:
             print(f"{run}: {missing} pile(s) without a dump (run the driver with --var final_dump=1)",
                   file=sys.stderr)

@@ -60,6 +60,45 @@ def test_slope_of_a_staircase_heap(tmp_path, slope):
     assert shape["residual"] < 0.5
 
 
+def heap_with_a_summit(length, slope, summit_slope, summit_width):
+    """Hexagonal rows of unit discs under the profile y = slope (L/2 - u)
+    for u = |x| >= summit_width, steepened to summit_slope within it."""
+    shoulder = slope * (length / 2 - summit_width)
+    xs, ys = [], []
+    row = 0
+    while True:
+        y = 0.5 + ROW_HEIGHT * row
+        top = y + 0.5
+        if top <= shoulder:
+            half = length / 2 - top / slope
+        else:
+            half = summit_width - (top - shoulder) / summit_slope
+        if half < 0.5:
+            break
+        offset = 0.0 if row % 2 == 0 else 0.5
+        x = -half + 0.5 + offset
+        while x <= half - 0.5 + 1e-9:
+            xs.append(x)
+            ys.append(y)
+            x += 1.0
+        row += 1
+    n = len(xs)
+    return {"id": np.arange(1, n + 1), "type": np.ones(n), "x": np.array(xs), "y": np.array(ys),
+            "radius": np.full(n, 0.5)}
+
+
+def test_peak_margin_leaves_out_a_steep_summit(tmp_path):
+    """A flank of slope 0.4 with a summit of slope 1.5 within 10 d of the
+    peak: fitted beyond 10 d the slope is the flank's; over the whole flank
+    (the default margin of 1 d) the summit steepens it."""
+    length = 80.0
+    write_dump(tmp_path / "pile.dump", [(0, heap_with_a_summit(length, 0.4, 1.5, 10.0))])
+    flank = pile2d_repose.pile_shape(tmp_path / "pile.dump", length, peak_margin=10.0)
+    whole = pile2d_repose.pile_shape(tmp_path / "pile.dump", length)
+    assert flank["slope"] == pytest.approx(0.4, rel=0.08)
+    assert whole["slope"] > 0.5
+
+
 def test_a_flat_layer_has_no_slope_and_grains_off_the_substrate_do_not_count(tmp_path):
     n = 20
     columns = {"id": np.arange(1, n + 3), "type": np.ones(n + 2),

@@ -146,7 +146,24 @@ def binary_identity(binary):
         shown = binary
     stamp = datetime.datetime.fromtimestamp(binary.stat().st_mtime).astimezone()
     digest = hashlib.sha256(binary.read_bytes()).hexdigest()[:12]
-    return f"`{shown}` built {stamp.strftime('%Y-%m-%d %H:%M %Z')}, sha256 {digest}…"
+    return (f"`{shown}` built {stamp.strftime('%Y-%m-%d %H:%M %Z')}, sha256 {digest}…"
+            + build_options(binary))
+
+
+def build_options(binary):
+    """The optimisation options of the build tree a binary comes from
+    (bin/../CMakeCache.txt; README, "Build options"), as ", with ..."."""
+    binary = Path(binary).resolve()
+    cache = binary.parent.parent / "CMakeCache.txt"
+    if binary.parent.name != "bin" or binary.name != "liggghts":
+        return ""   # a copy elsewhere: the tree's options may not be its own
+    try:
+        text = cache.read_text()
+    except OSError:
+        return ""
+    found = re.findall(r"^(SILOKIT_LTO|SILOKIT_PGO|SILOKIT_OPTIMIZATION_FLAGS):\w+=(.*)$",
+                       text, re.MULTILINE)
+    return ", with " + " ".join(f"{name}={value}" for name, value in found) if found else ""
 
 
 def load_average():

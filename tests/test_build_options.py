@@ -1,0 +1,92 @@
+"""The build options SILOKIT_LTO and SILOKIT_PGO (cmake/Optimization.cmake)
+without building LIGGGHTS again: the profile step on stand-in files, the
+configure step of a PGO tree, and the built binary itself."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from conftest import LIGGGHTS, ROOT
+
+PROFILE_SCRIPT = ROOT / "cmake" / "PgoProfile.cmake"
+
+
+def liggghts_tarball():
+    """Debian's source tarball the tested binary was built from: fetched
+    into its build tree, or given to it as LIGGGHTS_TARBALL."""
+    build = LIGGGHTS.parent.parent
+    fetched = build / "download" / "liggghts_3.8.0+repack1.orig.tar.xz"
+    if fetched.exists():
+        return fetched
+    cache = build / "CMakeCache.txt"
+    if cache.exists():
+        for line in cache.read_text().splitlines():
+            if line.startswith("LIGGGHTS_TARBALL:") and line.split("=", 1)[1]:
+                return Path(line.split("=", 1)[1])
+    return fetched
+
+
+TARBALL = liggghts_tarball()
+
+
+def make_profile(raw, profile, header, **replace):
+    args = {"RAW": raw, "PROFILE": profile, "HEADER": header,
+            "FROM": "liggghts_instrumented.dir", "TO": "liggghts.dir", **replace}
+    return subprocess.run(["cmake"] + [f"-D{k}={v}" for k, v in args.items()]
+                          + ["-P", str(PROFILE_SCRIPT)], capture_output=True, text=True)
+
+
+def test_the_profile_is_renamed_for_the_liggghts_target_and_its_header_changes_only_with_it(tmp_path):
+    raw, profile, header = tmp_path / "raw", tmp_path / "profile", tmp_path / "profile.h"
+    raw.mkdir()
+    names = ["CMakeFiles#liggghts_instrumented.dir#liggghts#src#pair_gran.cpp.gcda",
+             "CMakeFiles#liggghts_instrumented.dir#liggghts#src#fix_clog.cpp.gcda"]
+    for k, name in enumerate(names):
+        (raw / name).write_bytes(bytes([k]) * 16)
+    assert make_profile(raw, profile, header).returncode == 0
+    assert sorted(p.name for p in profile.iterdir()) == sorted(
+        n.replace("liggghts_instrumented.dir", "liggghts.dir") for n in names)
+    assert (profile / names[0].replace("_instrumented", "")).read_bytes() == bytes([0]) * 16
+    first = header.read_text()
+    assert first.startswith("/* silokit PGO profile: 2 files, sha256 ") and first.endswith("*/\n")
+
+    # the same counts again: the header is left alone (nothing recompiles)
+    os.utime(header, (0, 0))
+    assert make_profile(raw, profile, header).returncode == 0
+    assert header.stat().st_mtime == 0 and header.read_text() == first
+    # other counts: a new header (every liggghts source recompiles)
+    (raw / names[1]).write_bytes(b"\x07" * 16)
+    assert make_profile(raw, profile, header).returncode == 0
+    assert header.read_text() != first
+
+
+def test_the_profile_step_stops_on_an_empty_training(tmp_path):
+    (tmp_path / "raw").mkdir()
+    result = make_profile(tmp_path / "raw", tmp_path / "profile", tmp_path / "profile.h")
+    assert result.returncode != 0 and "wrote no profile" in result.stderr
+
+
+def test_the_built_binary_is_not_the_instrumented_one():
+    """An instrumented liggghts would write .gcda files wherever it runs."""
+    if not LIGGGHTS.exists():
+        pytest.fail(f"{LIGGGHTS} is missing: build it with tools/build.sh")
+    assert b"__gcov_merge_add" not in LIGGGHTS.read_bytes()
+
+
+@pytest.mark.skipif(not TARBALL.exists(), reason=f"{TARBALL} (fetched by the default build) is absent")
+def test_a_pgo_tree_configures_with_its_instrumented_target_and_training_step(tmp_path):
+    """Configure only (a few seconds): the targets the PGO build adds."""
+    build = tmp_path / "build"
+    configure = subprocess.run(
+        ["cmake", "-S", str(ROOT), "-B", str(build), f"-DLIGGGHTS_TARBALL={TARBALL}",
+         "-DSILOKIT_PGO=ON", "-DSILOKIT_LTO=ON", "-DSILOKIT_USE_VTK=OFF"],
+        capture_output=True, text=True)
+    assert configure.returncode == 0, configure.stdout + configure.stderr
+    assert "profile-guided optimisation on" in configure.stdout
+    assert "link-time optimisation on" in configure.stdout
+    targets = subprocess.run(["cmake", "--build", str(build), "--target", "help"],
+                             capture_output=True, text=True).stdout
+    for target in ("liggghts", "liggghts_instrumented", "pgo_profile"):
+        assert f"... {target}\n" in targets

@@ -25,14 +25,15 @@ def write_dump(path, frames):
                 handle.write(" ".join(repr(float(columns[c][k])) for c in names) + "\n")
 
 
-def staircase_heap(length, slope):
-    """Unit discs in hexagonal rows on y = 0, each row as wide as lets the
-    top of its discs stay under the line y = slope (L/2 - |x|)."""
+def discs_under(half_width):
+    """Unit discs in hexagonal rows on y = 0, each row centred on x = 0 and
+    as wide as half_width(top of its discs) allows; rows stop when a row
+    would be narrower than one disc."""
     xs, ys = [], []
     row = 0
     while True:
         y = 0.5 + ROW_HEIGHT * row
-        half = length / 2 - (y + 0.5) / slope
+        half = half_width(y + 0.5)
         if half < 0.5:
             break
         offset = 0.0 if row % 2 == 0 else 0.5
@@ -45,6 +46,11 @@ def staircase_heap(length, slope):
     n = len(xs)
     return {"id": np.arange(1, n + 1), "type": np.ones(n), "x": np.array(xs), "y": np.array(ys),
             "radius": np.full(n, 0.5)}
+
+
+def staircase_heap(length, slope):
+    """Rows whose disc tops stay under the line y = slope (L/2 - |x|)."""
+    return discs_under(lambda top: length / 2 - top / slope)
 
 
 @pytest.mark.parametrize("slope", [0.3, 0.45])
@@ -61,30 +67,11 @@ def test_slope_of_a_staircase_heap(tmp_path, slope):
 
 
 def heap_with_a_summit(length, slope, summit_slope, summit_width):
-    """Hexagonal rows of unit discs under the profile y = slope (L/2 - u)
-    for u = |x| >= summit_width, steepened to summit_slope within it."""
+    """Rows under the profile y = slope (L/2 - u) for u = |x| >= summit_width,
+    steepened to summit_slope within it."""
     shoulder = slope * (length / 2 - summit_width)
-    xs, ys = [], []
-    row = 0
-    while True:
-        y = 0.5 + ROW_HEIGHT * row
-        top = y + 0.5
-        if top <= shoulder:
-            half = length / 2 - top / slope
-        else:
-            half = summit_width - (top - shoulder) / summit_slope
-        if half < 0.5:
-            break
-        offset = 0.0 if row % 2 == 0 else 0.5
-        x = -half + 0.5 + offset
-        while x <= half - 0.5 + 1e-9:
-            xs.append(x)
-            ys.append(y)
-            x += 1.0
-        row += 1
-    n = len(xs)
-    return {"id": np.arange(1, n + 1), "type": np.ones(n), "x": np.array(xs), "y": np.array(ys),
-            "radius": np.full(n, 0.5)}
+    return discs_under(lambda top: length / 2 - top / slope if top <= shoulder
+                       else summit_width - (top - shoulder) / summit_slope)
 
 
 def test_peak_margin_leaves_out_a_steep_summit(tmp_path):

@@ -334,29 +334,25 @@ def report(all_decks, names, times, cpu, states, atoms, args, start_load, binari
             row.append(f"{benchlib.spread(values)[0]:.4g} [{min(values):.4g}–{max(values):.4g}]"
                        if values else "cannot run" if n == DEBIAN else "—")
         lines.append("| " + " | ".join(row) + " |")
+    def speed_table(samples):
+        """Each build against Debian's binary and against the reference."""
+        table = ["| deck | " + " | ".join(f"{n} / debian" for n in ours)
+                 + " | " + " | ".join(f"{n} / {reference}" for n in ours if n != reference) + " |",
+                 "|---|" + "---|" * (len(ours) + len(ours) - 1)]
+        for d in all_decks:
+            row = [d.name]
+            row += [cell(speedups(samples, d.name, n, DEBIAN)) if d.stock else "—" for n in ours]
+            row += [cell(speedups(samples, d.name, n, reference)) for n in ours if n != reference]
+            table.append("| " + " | ".join(row) + " |")
+        return table
+
     lines += ["", "Speed against Debian's binary (t_debian / t_build per repetition, median "
               "[min–max]; above 1 our build is faster), and against the reference "
-              f"**{reference}** (t_{reference} / t_build):", "",
-              "| deck | " + " | ".join(f"{n} / debian" for n in ours)
-              + " | " + " | ".join(f"{n} / {reference}" for n in ours if n != reference) + " |",
-              "|---|" + "---|" * (len(ours) + len(ours) - 1)]
-    for d in all_decks:
-        row = [d.name]
-        row += [cell(speedups(times, d.name, n, DEBIAN)) if d.stock else "—" for n in ours]
-        row += [cell(speedups(times, d.name, n, reference)) for n in ours if n != reference]
-        lines.append("| " + " | ".join(row) + " |")
+              f"**{reference}** (t_{reference} / t_build):", ""] + speed_table(times)
     # CPU time of the process (start-up and set-up included): less
     # sensitive than the loop's wall time to sharing the core with others
     lines += ["", "The same from the CPU time of the LIGGGHTS process (user + system, "
-              "start-up included), which counts only the time the process ran:", "",
-              "| deck | " + " | ".join(f"{n} / debian" for n in ours)
-              + " | " + " | ".join(f"{n} / {reference}" for n in ours if n != reference) + " |",
-              "|---|" + "---|" * (len(ours) + len(ours) - 1)]
-    for d in all_decks:
-        row = [d.name]
-        row += [cell(speedups(cpu, d.name, n, DEBIAN)) if d.stock else "—" for n in ours]
-        row += [cell(speedups(cpu, d.name, n, reference)) for n in ours if n != reference]
-        lines.append("| " + " | ".join(row) + " |")
+              "start-up included), which counts only the time the process ran:", ""] + speed_table(cpu)
     stock_decks = [d.name for d in all_decks if d.stock]
     if args.scenes and len(ours) > 1:
         # the chain for the decks Debian cannot run

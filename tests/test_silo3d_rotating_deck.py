@@ -180,3 +180,22 @@ def test_the_quick_deck_discharges_rods_through_the_turning_bottom(run, tmp_path
              if len(line.split()) == 7 and line.split()[0].isdigit()]
     assert len(atoms) > 10 and set(atoms) == {"300"}
     assert "nan" not in output.lower()
+
+
+def test_full_size_rods_of_aspect_4_are_22500_as_in_the_paper(run, tmp_path):
+    """The paper (sec. II): N = 10000, "only in the case of L/d = 4.0 N is
+    set to 22 500 to reach a bit higher initial packing". The full-size
+    deck (not quick) with -var aspect 4.0 makes 22500 rods of d = 5 mm,
+    all of them on its lattice column (it stops with an ERROR if the
+    column holds fewer). Settling and discharge cut to a few steps."""
+    output = run("\n".join([
+        "variable shape index rod", "variable aspect index 4.0",
+        "variable dt_fraction index 40", "variable settle_time index 0.0001",
+        "variable discharge_time index 0.0001",
+        f"variable inputs index {ROOT / 'inputs'}", f"include {DECK}"]) + "\n")
+    params = run_parameters(tmp_path / "run.txt")
+    assert params["N"] == 22500 and params["aspect"] == 4.0
+    assert params["Dc"] == 0.19 and params["D"] == 0.06
+    atoms = {line.split()[2] for line in output.splitlines()
+             if len(line.split()) == 7 and line.split()[0].isdigit()}
+    assert atoms == {"22500"}

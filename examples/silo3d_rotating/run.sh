@@ -19,6 +19,8 @@
 #   FIELDS   "D f" pairs whose runs also dump grains and contacts for the
 #            coarse-grained fields            ["0.06 0 0.06 0.32 0.06 1.28"]
 #   JOBS     runs at once (serial LIGGGHTS processes) [1]
+#   SHAPE    sphere | rod (spherocylinders, L = 20 mm)  [sphere]
+#   ASPECT   rods: L/d (the paper's 2.5, 3.3, 4.0)      [3.3]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -30,14 +32,19 @@ DISCHARGE="${DISCHARGE:-2.0}"
 TRANSIENT="${TRANSIENT:-0.5}"
 FIELDS="${FIELDS:-0.06 0 0.06 0.32 0.06 1.28}"
 JOBS="${JOBS:-1}"
+SHAPE="${SHAPE:-sphere}"
+ASPECT="${ASPECT:-3.3}"
 LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
 # line-buffered output: progress reaches screen.txt as it happens, and a
 # message of LIGGGHTS' Error::one (printed without a flush before
 # MPI_Abort, doc/liggghts_quirks.md) is not lost
 UNBUFFERED=(stdbuf -oL)
 PYTHON="${PYTHON:-/usr/bin/python3}"
-DECK="$ROOT/inputs/silo3d_rotating/in.silo3d_rotating"
-COMMON=(-echo none -var inputs "$ROOT/inputs" -var dt_fraction "$DT_FRACTION")
+# a long campaign runs frozen copies of the binary and the decks
+# (SILOKIT_LIGGGHTS, SILOKIT_INPUTS): LIGGGHTS reads a deck as it runs
+INPUTS="${SILOKIT_INPUTS:-$ROOT/inputs}"
+DECK="$INPUTS/silo3d_rotating/in.silo3d_rotating"
+COMMON=(-echo none -var inputs "$INPUTS" -var dt_fraction "$DT_FRACTION" -var shape "$SHAPE" -var aspect "$ASPECT")
 
 mkdir -p "$RUN_DIR"
 log() { echo "[$(date +%H:%M:%S)] silo3d_rotating: $*"; }

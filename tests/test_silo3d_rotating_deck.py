@@ -32,10 +32,21 @@ MASS = 620.0 * math.pi / 6.0 * 0.0099 ** 3
 SKIP_AFTER_OPEN = 0.1          # s: the start-up of the flow is left out of Q
 
 
-def quick_deck(**variables):
+def deck(**variables):
     lines = [f"variable {name} index {value}" for name, value in variables.items()]
-    lines += ["variable quick index 1", f"variable inputs index {ROOT / 'inputs'}", f"include {DECK}"]
+    lines += [f"variable inputs index {ROOT / 'inputs'}", f"include {DECK}"]
     return "\n".join(lines) + "\n"
+
+
+def quick_deck(**variables):
+    return deck(**variables, quick=1)
+
+
+def discharge_atoms(output):
+    """The atom counts of the discharge's thermo rows (step time atoms ke
+    n_out mass_out Q), as printed."""
+    return [line.split()[2] for line in output.splitlines()
+            if len(line.split()) == 7 and line.split()[0].isdigit()]
 
 
 def run_parameters(path):
@@ -176,8 +187,7 @@ def test_the_quick_deck_discharges_rods_through_the_turning_bottom(run, tmp_path
     assert record["n_out"][-1] > 20
     assert params["finished"] == pytest.approx(record["t"][-1], abs=0.011)
     # with reinjection every rod stays in the box
-    atoms = [line.split()[2] for line in output.splitlines()
-             if len(line.split()) == 7 and line.split()[0].isdigit()]
+    atoms = discharge_atoms(output)
     assert len(atoms) > 10 and set(atoms) == {"300"}
     assert "nan" not in output.lower()
 
@@ -188,14 +198,9 @@ def test_full_size_rods_of_aspect_4_are_22500_as_in_the_paper(run, tmp_path):
     deck (not quick) with -var aspect 4.0 makes 22500 rods of d = 5 mm,
     all of them on its lattice column (it stops with an ERROR if the
     column holds fewer). Settling and discharge cut to a few steps."""
-    output = run("\n".join([
-        "variable shape index rod", "variable aspect index 4.0",
-        "variable dt_fraction index 40", "variable settle_time index 0.0001",
-        "variable discharge_time index 0.0001",
-        f"variable inputs index {ROOT / 'inputs'}", f"include {DECK}"]) + "\n")
+    output = run(deck(shape="rod", aspect=4.0, dt_fraction=40, settle_time=0.0001,
+                      discharge_time=0.0001))
     params = run_parameters(tmp_path / "run.txt")
     assert params["N"] == 22500 and params["aspect"] == 4.0
     assert params["Dc"] == 0.19 and params["D"] == 0.06
-    atoms = {line.split()[2] for line in output.splitlines()
-             if len(line.split()) == 7 and line.split()[0].isdigit()}
-    assert atoms == {"22500"}
+    assert set(discharge_atoms(output)) == {"22500"}

@@ -33,6 +33,10 @@ are computed from the averaged linear ones (as MercuryCG does):
     kinetic stress    sigma_k = sum_i m_i v'_i (x) v'_i phi = M - rho V (x) V,  v'_i = v_i - V(r)   (eq. 4)
     orientation       O = L / n,  tr O = 1                               (eq. 5, normalised)
     nematic order     S = largest eigenvalue of O
+                      (over a region about the axis the paper does not say in
+                      which basis O is averaged first: S of the cylindrical
+                      components, or S_lab of the Cartesian ones, see
+                      orifice_averages)
     pressures         p_k = tr(sigma_k) / 3,  p_c = tr(sigma_c) / 3
 
 Stress sign: compression positive (the granular convention): a compressed
@@ -261,6 +265,21 @@ def nematic_order(orientation):
     return order
 
 
+def lab_frame_azimuthal_average(orientation):
+    """The azimuthal mean of a tensor field given by its (r, theta, z)
+    components, taken in Cartesian (lab) components instead: for the
+    rotation R(theta) about z, <R T R^T>_theta has the xy block
+    (T_rr + T_tt)/2 times the identity, T_zz, and no xz or yz part (those
+    go as cos and sin theta). Radial rods all around the axis thus make an
+    isotropic xy block, though every one of them points along e_r."""
+    orientation = np.asarray(orientation, dtype=float)
+    in_plane = 0.5 * (orientation[..., 0, 0] + orientation[..., 1, 1])
+    lab = np.zeros_like(orientation)
+    lab[..., 0, 0] = lab[..., 1, 1] = in_plane
+    lab[..., 2, 2] = orientation[..., 2, 2]
+    return lab
+
+
 def derived_fields(raw, particle_density):
     """Fields of eqs. 1-5 from (averaged) raw fields, in whatever basis the
     raw fields are: 'packing_fraction', 'velocity' (nan where rho = 0),
@@ -401,10 +420,15 @@ def orifice_averages(derived, grid):
     """The paper's orifice-region means weighted by the packing fraction,
     <X> = int X phi dV / int phi dV, for every derived field on `grid`
     (cylindrical components); 'nematic_order' is the largest eigenvalue of
-    the averaged orientation tensor, as in the paper (Fig. 9)."""
+    the averaged orientation tensor (Fig. 9). The paper averages O over the
+    orifice cylinder and takes its largest eigenvalue without saying in
+    which basis it averages: 'nematic_order' averages the cylindrical
+    components (order of rods all radial: 1), 'nematic_order_lab' the
+    Cartesian ones (the same rods: 1/2)."""
     weight = derived["packing_fraction"]
     means = {name: region_average(values, weight, grid.cell_volumes)
              for name, values in derived.items() if name != "nematic_order"}
     if "orientation" in means:
         means["nematic_order"] = float(nematic_order(means["orientation"]))
+        means["nematic_order_lab"] = float(nematic_order(lab_frame_azimuthal_average(means["orientation"])))
     return means

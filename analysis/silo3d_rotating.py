@@ -491,6 +491,7 @@ def orifice_row(derived_means, tau):
     if "orientation" in derived_means:
         row.update(zip(("O_rr", "O_tt", "O_zz"), np.diag(derived_means["orientation"])))
         row["S"] = derived_means["nematic_order"]
+        row["S_lab"] = derived_means["nematic_order_lab"]
     return row
 
 
@@ -670,7 +671,7 @@ def write_flow_tables(out, runs, groups, changes, fits, d):
                 "sigma = standard error over seeds, parameter errors are standard errors")
 
 
-ORIFICE_NAMES = ("phi", "v_r", "v_theta", "v_z", "p_k", "p_c", "O_rr", "O_tt", "O_zz", "S")
+ORIFICE_NAMES = ("phi", "v_r", "v_theta", "v_z", "p_k", "p_c", "O_rr", "O_tt", "O_zz", "S", "S_lab")
 
 
 def write_orifice_tables(out, runs, summaries, groups):
@@ -956,8 +957,9 @@ def main(argv=None):
         plot_orifice_vs_f(args.out / "orifice_vs_f.png", groups, ("phi", "v_z", "p_k"),
                           ("<phi>", "-<v_z> (m/s)", "<p_k> = <tr sigma_k>/3 (Pa)"))
         if "S" in groups[0]:
-            plot_orifice_vs_f(args.out / "orientation_vs_f.png", groups, ("O_zz", "O_rr", "O_tt", "S"),
-                              ("<O_zz>", "<O_rr>", "<O_tt>", "<S>"))
+            plot_orifice_vs_f(args.out / "orientation_vs_f.png", groups, ("O_zz", "O_rr", "O_tt", "S", "S_lab"),
+                              ("<O_zz>", "<O_rr>", "<O_tt>", "<S> (cylindrical average)",
+                               "<S_lab> (Cartesian average)"))
     progress(f"done; outputs in {args.out}")
     return 0
 

@@ -204,3 +204,43 @@ def test_full_size_rods_of_aspect_4_are_22500_as_in_the_paper(run, tmp_path):
     assert params["N"] == 22500 and params["aspect"] == 4.0
     assert params["Dc"] == 0.19 and params["D"] == 0.06
     assert set(discharge_atoms(output)) == {"22500"}
+
+
+def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
+    """-var shape clump: the stock peer of the rods, 300 clumps of ten
+    spheres of d = L/3.3 (fix multisphere), the solid rod's mass given,
+    settle and discharge through the turning bottom at half the rods'
+    time step. A clump leaves whole (fix multisphere removes the body when
+    a sphere leaves the box): the atoms on every thermo line are ten per
+    clump left, and mass_out is n_out rod masses."""
+    length, aspect = 0.020, 3.3
+    d = length / aspect
+    rod_mass = 620.0 * (math.pi * d ** 3 / 6 + math.pi * d ** 2 / 4 * (length - d))
+    rods = run(deck(quick=1, shape="rod", settle_time=0.0001, discharge_time=0.0001), subdir="rods")
+    rod_dt = run_parameters(tmp_path / "rods" / "run.txt")["dt"]
+    output = run(quick_deck(shape="clump", f=0.32, settle_time=0.3, discharge_time=0.15))
+    params = run_parameters(tmp_path / "run.txt")
+    assert params["shape"] == "clump" and params["N"] == 300
+    assert params["mass"] == pytest.approx(rod_mass, rel=1e-12)
+    assert params["dt"] == pytest.approx(rod_dt / 2, rel=1e-12) and "nan" not in rods.lower()
+    record = read_table(tmp_path / "discharge.txt")
+    assert np.all(np.diff(record["n_out"]) >= 0) and record["n_out"][-1] > 5
+    np.testing.assert_array_equal(record["n_out"], np.round(record["n_out"]))
+    np.testing.assert_allclose(record["mass_out"], record["n_out"] * rod_mass, rtol=1e-9)
+    # thermo rows: step time atoms ke n_out mass_out Q
+    rows = [line.split() for line in output.splitlines()
+            if len(line.split()) == 7 and line.split()[0].isdigit()]
+    atoms = np.array([int(row[2]) for row in rows])
+    assert atoms[0] == 3000 and atoms[-1] < 3000
+    np.testing.assert_array_equal(atoms, 10 * (300 - np.array([float(row[4]) for row in rows])))
+    assert "nan" not in output.lower()
+
+
+@pytest.mark.parametrize("variables, message", [
+    ({"reinject": 1}, "shape clump has no reinjection"),
+    ({"dump_every_time": 0.05}, "shape clump writes no dump.cg"),
+])
+def test_clumps_refuse_reinjection_and_dumps_with_a_message(run, variables, message):
+    with pytest.raises(LiggghtsError) as caught:
+        run(quick_deck(shape="clump", **variables))
+    assert message in caught.value.output

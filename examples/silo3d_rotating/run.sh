@@ -19,8 +19,11 @@
 #   FIELDS   "D f" pairs whose runs also dump grains and contacts for the
 #            coarse-grained fields            ["0.06 0 0.06 0.32 0.06 1.28"]
 #   JOBS     runs at once (serial LIGGGHTS processes) [1]
-#   SHAPE    sphere | rod (spherocylinders, L = 20 mm)  [sphere]
-#   ASPECT   rods: L/d (the paper's 2.5, 3.3, 4.0)      [3.3]
+#   SHAPE    sphere | rod (spherocylinders, L = 20 mm) | clump (the rods'
+#            stock peer: 10 glued spheres, fix multisphere)  [sphere]
+#   ASPECT   rods and clumps: L/d (the paper's 2.5, 3.3, 4.0) [3.3]
+#   REINJECT 1: discharged grains re-enter at the top; 0: they leave
+#            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -34,6 +37,8 @@ FIELDS="${FIELDS:-0.06 0 0.06 0.32 0.06 1.28}"
 JOBS="${JOBS:-1}"
 SHAPE="${SHAPE:-sphere}"
 ASPECT="${ASPECT:-3.3}"
+REINJECT="${REINJECT:-1}"
+if [ "$SHAPE" = clump ]; then REINJECT=0; FIELDS=""; fi
 LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
 # line-buffered output: progress reaches screen.txt as it happens, and a
 # message of LIGGGHTS' Error::one (printed without a flush before
@@ -77,7 +82,7 @@ discharge() {  # one (D, f, seed) run
   start=$(date +%s)
   log "D $D f $f seed $seed: running (dumps every $dump s)"
   (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
-      -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject 1 -var D "$D" -var f "$f" \
+      -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject "$REINJECT" -var D "$D" -var f "$f" \
       -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" > screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
   touch "$dir/finished"

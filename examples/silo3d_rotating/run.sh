@@ -24,6 +24,7 @@
 #   ASPECT   rods and clumps: L/d (the paper's 2.5, 3.3, 4.0) [3.3]
 #   REINJECT 1: discharged grains re-enter at the top; 0: they leave
 #            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
+#   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900" [""]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -50,6 +51,9 @@ PYTHON="${PYTHON:-/usr/bin/python3}"
 INPUTS="${SILOKIT_INPUTS:-$ROOT/inputs}"
 DECK="$INPUTS/silo3d_rotating/in.silo3d_rotating"
 COMMON=(-echo none -var inputs "$INPUTS" -var dt_fraction "$DT_FRACTION" -var shape "$SHAPE" -var aspect "$ASPECT")
+set -- ${DECK_VARS:-}
+[ $(( $# % 2 )) -eq 0 ] || { echo "run.sh: DECK_VARS needs name value pairs, got: ${DECK_VARS}" >&2; exit 2; }
+while [ $# -ge 2 ]; do COMMON+=(-var "$1" "$2"); shift 2; done
 
 mkdir -p "$RUN_DIR"
 log() { echo "[$(date +%H:%M:%S)] silo3d_rotating: $*"; }

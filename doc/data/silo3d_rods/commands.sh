@@ -1,0 +1,37 @@
+#!/bin/bash
+# How these records were made (2026-11-24/25, the deck of dc96eab; frozen
+# binary and inputs): L/d = 3.3 rods, D = 60 mm, one packing (seed
+# 32452843, settled 2 s), reinjection, 1.5 s of discharge, dumps every
+# 0.05 s, one run per f. Run from the repository root; resumes.
+SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16 0.32 0.64" SEEDS="32452843" DT_FRACTION=40 DISCHARGE=1.5 \
+  TRANSIENT=0.5 FIELDS="0.06 0 0.06 0.16 0.06 0.32 0.06 0.64" JOBS=1 \
+  bash examples/silo3d_rotating/run.sh runs/rods
+# the tables here (orifice.md, flow_rate_runs.md, flow_rate_change.md,
+# D*/orifice_timeseries.md) are those of the full dumps:
+/usr/bin/python3 -m analysis.silo3d_rotating runs/rods/D0.06_f*_s* --out runs/rods/analysis --transient 0.5
+# dump.cg.xz keeps the grains within r < 0.06 m and z < 0.05 m of each
+# frame (the orifice cylinder r < 0.03 m, z < 0.01 m, plus the kernel's
+# cut-off of 0.02 m and a margin), so that the orifice averages (but not
+# p_c, which needs dump.contacts, nor the maps) come back from it:
+reduce() {
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+out, i = open(sys.argv[2], "w"), 0
+while i < len(lines):
+    head, n = lines[i:i + 9], int(lines[i + 3])
+    columns = head[8].split()[2:]
+    ix, iy, iz = (columns.index(c) for c in ("x", "y", "z"))
+    keep = [row for row in lines[i + 9:i + 9 + n]
+            if float(row.split()[iz]) < 0.05 and float(row.split()[ix]) ** 2 + float(row.split()[iy]) ** 2 < 0.06 ** 2]
+    head[3] = str(len(keep))
+    out.write("\n".join(head + keep) + "\n")
+    i += 9 + n
+PY
+}
+for run in runs/rods/D0.06_f*_s32452843; do
+  reduce "$run/dump.cg" /tmp/dump.cg.reduced && xz -9 -c /tmp/dump.cg.reduced > "doc/data/silo3d_rods/$(basename "$run")/dump.cg.xz"
+done
+# check: decompress into copies of the run directories (run.txt,
+# discharge.txt, reinject.txt, dump.cg) and compare the orifice table:
+#   /usr/bin/python3 -m analysis.silo3d_rotating COPIES/D* --out check --transient 0.5

@@ -1,0 +1,14 @@
+#!/bin/bash
+# How these records were made (2026-11-25, the deck of 77a20be; frozen binary
+# and inputs): the glued-sphere peer on the quick silo (Dc = 0.1188 m,
+# D = 0.05 m): 900 rods (ours) or 900 clumps of 10 spheres (stock fix
+# multisphere), L/d = 3.3, settled 1.0 s, no reinjection (clumps cannot be
+# reinjected), f = 0 and 0.32 Hz, two packings each, 1.0 s of discharge.
+# Run from the repository root; resumes.
+for shape in rod clump; do
+  SHAPE=$shape ASPECT=3.3 REINJECT=0 DS="0.05" FS="0 0.32" SEEDS="32452843 49979687" DT_FRACTION=40 \
+    DISCHARGE=1.0 TRANSIENT=0.1 FIELDS="" JOBS=1 DECK_VARS="quick 1 N 900 settle_time 1.0" \
+    bash examples/silo3d_rotating/run.sh runs/peer_$shape
+done
+# flow_rate_*.md and flow_rate_runs_*.md are runs/peer_<shape>/analysis/flow_rate*.md
+# (run.sh's analysis, --transient 0.1); loop_times.txt sums each run's 'Loop time' lines.

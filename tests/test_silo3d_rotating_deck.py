@@ -42,11 +42,23 @@ def quick_deck(**variables):
     return deck(**variables, quick=1)
 
 
-def discharge_atoms(output):
-    """The atom counts of the discharge's thermo rows (step time atoms ke
-    n_out mass_out Q), as printed."""
-    return [line.split()[2] for line in output.splitlines()
+def discharge_rows(output):
+    """The discharge's thermo rows (step time atoms ke n_out mass_out Q),
+    split into their printed fields."""
+    return [line.split() for line in output.splitlines()
             if len(line.split()) == 7 and line.split()[0].isdigit()]
+
+
+def discharge_atoms(output):
+    """The atom counts of the discharge's thermo rows, as printed."""
+    return [row[2] for row in discharge_rows(output)]
+
+
+def solid_rod_mass(length, aspect):
+    """A spherocylinder of density 620 kg/m^3, L end to end, d = L/aspect:
+    a cylinder of L - d and a sphere of d, written out here."""
+    d = length / aspect
+    return 620.0 * (math.pi * d ** 3 / 6 + math.pi * d ** 2 / 4 * (length - d))
 
 
 def run_parameters(path):
@@ -171,11 +183,10 @@ def test_the_quick_deck_discharges_rods_through_the_turning_bottom(run, tmp_path
     d = L/3.3) from a lattice column settle in the closed silo and
     discharge through the turning bottom (0.32 Hz): the styles of
     doc/spherocylinder.md working together. The records are those of the
-    spheres' runs: mass_out is n_out times the solid rod's mass (cylinder
-    of L - d and a sphere of d, written out here), and no rod is lost."""
+    spheres' runs: mass_out is n_out times the solid rod's mass
+    (solid_rod_mass), and no rod is lost."""
     length, aspect = 0.020, 3.3
-    d = length / aspect
-    rod_mass = 620.0 * (math.pi * d ** 3 / 6 + math.pi * d ** 2 / 4 * (length - d))
+    rod_mass = solid_rod_mass(length, aspect)
     output = run(quick_deck(shape="rod", aspect=aspect, f=0.32, reinject=1, discharge_time=0.3))
     params = run_parameters(tmp_path / "run.txt")
     assert params["shape"] == "rod" and params["N"] == 300
@@ -213,9 +224,7 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
     time step. A clump leaves whole (fix multisphere removes the body when
     a sphere leaves the box): the atoms on every thermo line are ten per
     clump left, and mass_out is n_out rod masses."""
-    length, aspect = 0.020, 3.3
-    d = length / aspect
-    rod_mass = 620.0 * (math.pi * d ** 3 / 6 + math.pi * d ** 2 / 4 * (length - d))
+    rod_mass = solid_rod_mass(0.020, 3.3)
     rods = run(deck(quick=1, shape="rod", settle_time=0.0001, discharge_time=0.0001), subdir="rods")
     rod_dt = run_parameters(tmp_path / "rods" / "run.txt")["dt"]
     output = run(quick_deck(shape="clump", f=0.32, settle_time=0.3, discharge_time=0.15))
@@ -227,9 +236,7 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
     assert np.all(np.diff(record["n_out"]) >= 0) and record["n_out"][-1] > 5
     np.testing.assert_array_equal(record["n_out"], np.round(record["n_out"]))
     np.testing.assert_allclose(record["mass_out"], record["n_out"] * rod_mass, rtol=1e-9)
-    # thermo rows: step time atoms ke n_out mass_out Q
-    rows = [line.split() for line in output.splitlines()
-            if len(line.split()) == 7 and line.split()[0].isdigit()]
+    rows = discharge_rows(output)
     atoms = np.array([int(row[2]) for row in rows])
     assert atoms[0] == 3000 and atoms[-1] < 3000
     np.testing.assert_array_equal(atoms, 10 * (300 - np.array([float(row[4]) for row in rows])))

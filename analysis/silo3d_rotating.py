@@ -725,7 +725,28 @@ def plot_discharge(path, run, rate_window):
     return _save(fig, path)
 
 
-def plot_q_vs_f(path, groups):
+# Fig. 2's panels: (a) spheres, (b)-(d) rods of L/d = 2.5, 3.3, 4.0
+FIG2_ROD_PANELS = {2.5: "b", 3.3: "c", 4.0: "d"}
+
+
+def fig2_panel(info):
+    """The grains of a run (its run.txt) and the panel of the paper's Fig. 2
+    that shows them: 'spheres (Fig. 2a)', 'rods L/d 3.3 (Fig. 2c)', for
+    glued spheres (`shape clump`) the panel of the rods they stand in for;
+    an aspect ratio the paper did not simulate has no panel."""
+    shape = info.get("shape", "sphere")
+    if shape == "sphere":
+        return "spheres (Fig. 2a)"
+    aspect = float(info["aspect"])
+    panel = next((p for a, p in FIG2_ROD_PANELS.items() if abs(aspect - a) < 1e-9), None)
+    if shape == "clump":
+        grains, reference = f"glued-sphere rods L/d {aspect:g}", "peer of Fig. 2"
+    else:
+        grains, reference = f"rods L/d {aspect:g}", "Fig. 2"
+    return f"{grains} ({reference}{panel})" if panel else f"{grains} (not in Fig. 2)"
+
+
+def plot_q_vs_f(path, groups, grains):
     fig, axes = _figure()
     ax = axes[0, 0]
     for D in sorted({g["D"] for g in groups}):
@@ -734,7 +755,7 @@ def plot_q_vs_f(path, groups):
                     fmt="o-", capsize=3, label=f"D = {D * 1e3:g} mm")
     ax.set_xlabel("f (Hz)")
     ax.set_ylabel("Q (kg/s)")
-    ax.set_title("Q(f) (Fig. 2a), 95 % CI")
+    ax.set_title(f"Q(f), {grains}, 95 % CI")
     ax.legend()
     return _save(fig, path)
 
@@ -939,7 +960,7 @@ def main(argv=None):
         progress(f"f = {f:g} Hz: Beverloo C = {b['C']:.4g} +- {b['C_se']:.2g}, k = {b['k']:.3g} +- "
                  f"{b['k_se']:.2g}; exponential kappa = {e['kappa'] * 1e-3:.4g} +- {e['kappa_se'] * 1e-3:.2g} /mm")
     if groups:
-        plot_q_vs_f(args.out / "Q_vs_f.png", groups)
+        plot_q_vs_f(args.out / "Q_vs_f.png", groups, fig2_panel(runs[0].info))
         plot_q_vs_D(args.out / "Q_vs_D_loglog.png", groups, fits, d, log_q_axis_only=False)
         plot_q_vs_D(args.out / "Q_vs_D_semilog.png", groups, fits, d, log_q_axis_only=True)
     progress(f"flow-rate tables and plots in {args.out}")

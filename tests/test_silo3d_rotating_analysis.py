@@ -340,6 +340,16 @@ def write_dumps(directory, frame_tau):
                 contact_file.write(f"{x1[0]} {x1[1]} {x1[2]} {x2[0]} {x2[1]} {x2[2]} {upper + 1} {lower + 1} 0 0 0 1\n")
 
 
+def test_q_of_f_is_titled_with_the_paper_s_panel_for_the_grains():
+    # the paper's Fig. 2 caption: (a) spheres, (b)-(d) rods of L/d = 2.5, 3.3, 4.0
+    assert silo.fig2_panel({"shape": "sphere", "aspect": 1}) == "spheres (Fig. 2a)"
+    assert silo.fig2_panel({"shape": "rod", "aspect": 2.5}) == "rods L/d 2.5 (Fig. 2b)"
+    assert silo.fig2_panel({"shape": "rod", "aspect": 3.3}) == "rods L/d 3.3 (Fig. 2c)"
+    assert silo.fig2_panel({"shape": "rod", "aspect": 4.0}) == "rods L/d 4 (Fig. 2d)"
+    assert silo.fig2_panel({"shape": "clump", "aspect": 3.3}) == "glued-sphere rods L/d 3.3 (peer of Fig. 2c)"
+    assert silo.fig2_panel({"shape": "rod", "aspect": 5.0}) == "rods L/d 5 (not in Fig. 2)"
+
+
 def test_cli_writes_tables_and_plots(tmp_path):
     runs = []
     # three orifices at f = 0.32, two seeds each; rate in grains/s grows with D

@@ -241,6 +241,10 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
     assert atoms[0] == 3000 and atoms[-1] < 3000
     np.testing.assert_array_equal(atoms, 10 * (300 - np.array([float(row[4]) for row in rows])))
     assert "nan" not in output.lower()
+    # half the rods' dt does not divide 0.05 s: the run still ends after
+    # 0.15 s of discharge, not a chunk of 0.05 s later
+    t_done = float(re.search(r"done at t = ([-+.0-9eE]+) s", output).group(1))
+    assert t_done - params["t_open"] == pytest.approx(0.15, abs=10 * params["dt"])
 
 
 @pytest.mark.parametrize("variables, message", [

@@ -3,8 +3,8 @@
 # binary and inputs): L/d = 3.3 rods, D = 60 mm, one packing (seed
 # 32452843, settled 2 s), reinjection, 1.5 s of discharge, dumps every
 # 0.05 s, one run per f. Run from the repository root; resumes.
-SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16 0.32 0.64 1.28" SEEDS="32452843" DT_FRACTION=40 DISCHARGE=1.5 \
-  TRANSIENT=0.5 FIELDS="0.06 0 0.06 0.16 0.06 0.32 0.06 0.64 0.06 1.28" JOBS=1 \
+SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16 0.32 0.64 1.28 0.96" SEEDS="32452843" DT_FRACTION=40 DISCHARGE=1.5 \
+  TRANSIENT=0.5 FIELDS="0.06 0 0.06 0.16 0.06 0.32 0.06 0.64 0.06 1.28 0.06 0.96" JOBS=1 \
   bash examples/silo3d_rotating/run.sh runs/rods
 # the tables here (orifice.md, flow_rate_runs.md, flow_rate_change.md,
 # D*/orifice_timeseries.md) are those of the full dumps:

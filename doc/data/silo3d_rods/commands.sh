@@ -35,3 +35,14 @@ done
 # check: decompress into copies of the run directories (run.txt,
 # discharge.txt, reinject.txt, dump.cg) and compare the orifice table:
 #   /usr/bin/python3 -m analysis.silo3d_rotating COPIES/D* --out check --transient 0.5
+
+# A second packing (seed 15485863), f = 0 and 0.16 Hz, the same protocol
+# (2026-11-25, same frozen binary and inputs):
+SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16" SEEDS="15485863" DT_FRACTION=40 DISCHARGE=1.5 TRANSIENT=0.5 \
+  FIELDS="0.06 0 0.06 0.16" JOBS=2 bash examples/silo3d_rotating/run.sh runs/rods_s2
+# two_packings/: both packings' f = 0 and 0.16 Hz runs together
+/usr/bin/python3 -m analysis.silo3d_rotating runs/rods/D0.06_f0_s32452843 runs/rods/D0.06_f0.16_s32452843 \
+    runs/rods_s2/D0.06_f0_s15485863 runs/rods_s2/D0.06_f0.16_s15485863 --out runs/two_packings --transient 0.5
+for run in runs/rods_s2/D0.06_f*_s15485863; do
+  reduce "$run/dump.cg" /tmp/dump.cg.reduced && xz -9 -c /tmp/dump.cg.reduced > "doc/data/silo3d_rods/$(basename "$run")/dump.cg.xz"
+done

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_table
+from analysis.lammps_io import read_dump, read_table
 from analysis.silo3d_rotating import stationary_flow_rate
 from conftest import ROOT, LiggghtsError, has_mpirun
 
@@ -261,4 +261,40 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
 def test_clumps_refuse_reinjection_and_dumps_with_a_message(run, variables, message):
     with pytest.raises(LiggghtsError) as caught:
         run(quick_deck(shape="clump", **variables))
+    assert message in caught.value.output
+
+
+def test_clumps_start_from_the_poses_of_a_rod_packing(run, tmp_path):
+    """-var write_poses 1 (rods) writes the rods' centres and axes at the
+    opening, the state the first frame of dump.cg holds; -var shape clump
+    -var read_poses 1 places one clump at each (fix insert/poses, whose own
+    tests check where its spheres go)."""
+    run(quick_deck(shape="rod", settle_time=0.2, discharge_time=0.0001, write_poses=1,
+                   dump_every_time=0.2), subdir="rods")
+    step, poses = read_dump(tmp_path / "rods" / "poses.dump")[0]
+    step_cg, grains = read_dump(tmp_path / "rods" / "dump.cg")[0]
+    assert list(poses) == ["x", "y", "z", "c_rod_axis[1]", "c_rod_axis[2]", "c_rod_axis[3]"]
+    assert len(poses["x"]) == 300
+    axes = np.column_stack([poses[f"c_rod_axis[{k}]"] for k in (1, 2, 3)])
+    np.testing.assert_allclose(np.linalg.norm(axes, axis=1), 1.0, rtol=0, atol=1e-12)
+    # dump.cg (sorted by id, as the poses are; 6 digits) writes on multiples
+    # of its interval, here the settling time: its first frame is the opening
+    # (%g: 6 significant digits, half a unit of the last, 5e-6 relative)
+    assert step_cg == step
+    for column in poses:
+        np.testing.assert_allclose(poses[column], grains[column], rtol=5.1e-6, atol=1e-12)
+    output = run(quick_deck(shape="clump", read_poses=1, poses=tmp_path / "rods" / "poses.dump",
+                            settle_time=0.01, discharge_time=0.0001))
+    assert "inserted 300 particle templates" in output
+    assert run_parameters(tmp_path / "run.txt")["N"] == 300
+    assert discharge_atoms(output)[-1] == "3000" and "nan" not in output.lower()
+
+
+@pytest.mark.parametrize("variables, message", [
+    ({"write_poses": 1}, "write_poses writes the poses of rods"),
+    ({"read_poses": 1, "shape": "rod"}, "read_poses places clumps"),
+])
+def test_poses_are_refused_for_the_wrong_grains_with_a_message(run, variables, message):
+    with pytest.raises(LiggghtsError) as caught:
+        run(quick_deck(**variables))
     assert message in caught.value.output

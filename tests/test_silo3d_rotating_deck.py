@@ -298,3 +298,10 @@ def test_poses_are_refused_for_the_wrong_grains_with_a_message(run, variables, m
     with pytest.raises(LiggghtsError) as caught:
         run(quick_deck(**variables))
     assert message in caught.value.output
+
+
+def test_a_poses_file_with_fewer_clumps_than_N_is_refused(run, tmp_path):
+    (tmp_path / "two.txt").write_text("0 0 0.02 1 0 0\n0.03 0 0.02 0 1 0\n")
+    with pytest.raises(LiggghtsError) as caught:
+        run(quick_deck(shape="clump", read_poses=1, poses=tmp_path / "two.txt", settle_time=0.0001))
+    assert "the gas holds 2 < N = 300 clumps" in caught.value.output

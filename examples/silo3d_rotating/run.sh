@@ -8,7 +8,10 @@
 #
 # Every run starts from one settled packing per seed (made once, then
 # reused); the flow is kept stationary by reinjecting the grains at the top.
-# Resumable: a run whose directory holds `finished` is not run again.
+# Resumable: a run whose directory holds `finished` is not run again, and
+# an interrupted discharge goes on from its last checkpoint (a restart file
+# every CHECKPOINT s of discharge; analysis.checkpoint cuts its records back
+# to it), so that a session's end loses at most CHECKPOINT s of each run.
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
 #   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 0.96 1.28"]
@@ -25,6 +28,7 @@
 #   REINJECT 1: discharged grains re-enter at the top; 0: they leave
 #            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
 #   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900" [""]
+#   CHECKPOINT   s of discharge between checkpoints, 0: none      [0.25]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -39,6 +43,7 @@ JOBS="${JOBS:-1}"
 SHAPE="${SHAPE:-sphere}"
 ASPECT="${ASPECT:-3.3}"
 REINJECT="${REINJECT:-1}"
+CHECKPOINT="${CHECKPOINT:-0.25}"
 if [ "$SHAPE" = clump ]; then REINJECT=0; FIELDS=""; fi
 LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
 # line-buffered output: progress reaches screen.txt as it happens, and a
@@ -46,6 +51,7 @@ LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
 # MPI_Abort, doc/liggghts_quirks.md) is not lost
 UNBUFFERED=(stdbuf -oL)
 PYTHON="${PYTHON:-/usr/bin/python3}"
+analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
 # a long campaign runs frozen copies of the binary and the decks
 # (SILOKIT_LIGGGHTS, SILOKIT_INPUTS): LIGGGHTS reads a deck as it runs
 INPUTS="${SILOKIT_INPUTS:-$ROOT/inputs}"
@@ -79,17 +85,27 @@ wants_fields() {
 }
 
 discharge() {  # one (D, f, seed) run
-  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start
+  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start resume
   [ -f "$dir/finished" ] && { log "D $D f $f seed $seed: done before, skipped"; return 0; }
   mkdir -p "$dir"
   wants_fields "$D" "$f" && dump=0.05
   start=$(date +%s)
-  log "D $D f $f seed $seed: running (dumps every $dump s)"
+  # after an interruption: the last checkpoint's variables, records cut back to it
+  resume=$(analysis analysis.checkpoint resume "$dir")
+  if [ -n "$resume" ]; then
+    log "D $D f $f seed $seed: resuming ($resume)"
+  else
+    log "D $D f $f seed $seed: running (dumps every $dump s)"
+    : > "$dir/screen.txt"
+  fi
+  # $resume: "-var name value" words, none with spaces
   (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
       -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject "$REINJECT" -var D "$D" -var f "$f" \
-      -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" > screen.txt 2>&1) \
+      -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
+      $resume >> screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
   touch "$dir/finished"
+  analysis analysis.checkpoint clean "$dir"
   log "D $D f $f seed $seed: $(grep -a 'done at' "$dir/screen.txt" | sed 's/silo3d_rotating: //') ($(( $(date +%s) - start )) s)"
 }
 
@@ -104,4 +120,4 @@ for seed in $SEEDS; do
 done
 wait
 log "all runs done; analysing"
-"$PYTHON" -m analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT"
+analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT"

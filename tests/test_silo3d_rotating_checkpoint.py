@@ -1,0 +1,129 @@
+"""Checkpoints of the rotating-bottom silo's discharge and resuming from
+them (inputs/run_until_done.in, the deck's `resume`, analysis.checkpoint,
+examples/silo3d_rotating/run.sh).
+
+- On the engine: a quick run with reinjection and dumps, checkpointed
+  every 0.1 s, is cut back to its first checkpoint (as an interruption
+  after it would leave it) and resumed: the records it ends with are those
+  of the uninterrupted run, every count and mass to the last digit and the
+  times to round-off.
+- The driver: run.sh killed once its run has a checkpoint and started
+  again finishes the run from there, with records that have no gap and no
+  repeated row or frame, and removes the checkpoint files.
+- The cutting and the resume variables on hand-made files.
+"""
+
+import os
+import shutil
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analysis import checkpoint
+from analysis.lammps_io import read_dump, read_table
+from conftest import LIGGGHTS, ROOT, run_liggghts
+
+DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
+QUICK = {"inputs": ROOT / "inputs", "quick": 1, "reinject": 1, "f": 0.32, "dump_every_time": 0.05,
+         "checkpoint_every_time": 0.1, "discharge_time": 0.3}
+
+
+def run_deck(workdir, variables):
+    return run_liggghts(f"include {DECK}\n", workdir, variables=variables)
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory, liggghts_binary):
+    workdir = tmp_path_factory.mktemp("uninterrupted")
+    run_deck(workdir, QUICK)
+    return workdir
+
+
+def test_a_run_cut_back_to_its_checkpoint_and_resumed_ends_as_the_uninterrupted_one(uninterrupted, tmp_path):
+    listed = (uninterrupted / "checkpoints.txt").read_text().split("\n")
+    assert len([line for line in listed if line]) == 2     # after 0.1 and 0.2 s, not at the end
+    # an interruption after the first checkpoint: the copy keeps every
+    # record written after it, which the cut must remove
+    interrupted = tmp_path / "interrupted"
+    shutil.copytree(uninterrupted, interrupted)
+    (interrupted / "checkpoints.txt").write_text(listed[0] + "\n")
+    variables = checkpoint.resume_variables(interrupted)
+    first_step = int(listed[0].split()[0])
+    assert variables["checkpoint"] == str((interrupted / f"checkpoint.{first_step}.restart").resolve())
+    run_deck(interrupted, {**QUICK, **variables})
+
+    for name in ("discharge.txt", "reinject.txt"):
+        whole, resumed = read_table(uninterrupted / name), read_table(interrupted / name)
+        assert list(whole) == list(resumed) and len(whole["step"]) == len(resumed["step"]) > 10
+        for column in whole:
+            if column == "t":
+                np.testing.assert_allclose(resumed[column], whole[column], rtol=0, atol=1e-12)
+            else:
+                np.testing.assert_array_equal(resumed[column], whole[column])
+    assert (interrupted / "dump.cg").read_text() == (uninterrupted / "dump.cg").read_text()
+    assert [step for step, _ in read_dump(interrupted / "dump.contacts")] == \
+        [step for step, _ in read_dump(uninterrupted / "dump.contacts")]
+    finished = [line for line in (interrupted / "run.txt").read_text().splitlines() if line.startswith("finished")]
+    assert len(finished) == 1
+
+
+def test_the_resume_variables_come_from_the_last_checkpoint_on_disk_and_run_txt(tmp_path):
+    (tmp_path / "run.txt").write_text("# run\ndt 0.001\nt_open 0.4\nN 900\nstep_open 400\nfinished 0.9\n")
+    (tmp_path / "checkpoints.txt").write_text("500 checkpoint.500.restart\n600 checkpoint.600.restart\n")
+    (tmp_path / "checkpoint.500.restart").write_text("a file")   # 600's was never written whole
+    # the interruption cut the last row short: "6" of "650 0.65 250 0.1"
+    (tmp_path / "discharge.txt").write_text("# step t n_out mass_out\n" +
+                                            "".join(f"{s} {s / 1000} {s - 400} 0.1\n" for s in range(400, 650, 50))
+                                            + "6")
+    frames = "".join(f"ITEM: TIMESTEP\n{s}\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x\n1 0.5\n"
+                     for s in (400, 450, 500, 550))
+    (tmp_path / "dump.cg").write_text(frames + "ITEM: TIMESTEP\n")
+    variables = checkpoint.resume_variables(tmp_path)
+    assert variables == {"resume": 1, "checkpoint": str((tmp_path / "checkpoint.500.restart").resolve()),
+                         "t_resume": repr(0.4 + 100 * 0.001), "n_open_resumed": "900",
+                         "step_open_resumed": 400}
+    assert list(read_table(tmp_path / "discharge.txt")["step"]) == [400, 450, 500]
+    assert [step for step, _ in read_dump(tmp_path / "dump.cg")] == [400, 450]   # 500 is written again
+    assert "finished" not in (tmp_path / "run.txt").read_text()
+    (tmp_path / "checkpoint.500.restart").unlink()
+    assert checkpoint.resume_variables(tmp_path) is None
+
+
+def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path):
+    environment = {**os.environ, "SILOKIT_LIGGGHTS": str(LIGGGHTS), "DS": "0.05", "FS": "0.32",
+                   "SEEDS": "32452843", "DISCHARGE": "0.5", "TRANSIENT": "0.1", "CHECKPOINT": "0.1",
+                   "FIELDS": "0.05 0.32", "DECK_VARS": "quick 1"}
+    command = ["bash", str(ROOT / "examples" / "silo3d_rotating" / "run.sh"), str(tmp_path / "runs")]
+    run_dir = tmp_path / "runs" / "D0.05_f0.32_s32452843"
+    listing = run_dir / "checkpoints.txt"
+    first = subprocess.Popen(command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                             start_new_session=True)
+    deadline = time.time() + 300
+    while not (listing.exists() and listing.read_text().strip()) and time.time() < deadline:
+        assert first.poll() is None, "run.sh ended before its first checkpoint"
+        time.sleep(0.2)
+    assert listing.exists(), "no checkpoint within 300 s"
+    os.killpg(first.pid, signal.SIGKILL)
+    first.wait()
+    assert not (run_dir / "finished").exists()
+
+    second = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)
+    assert second.returncode == 0, second.stdout + second.stderr
+    assert "resuming" in second.stdout and (run_dir / "finished").exists()
+    assert not list(run_dir.glob("checkpoint.*.restart"))
+    steps = read_table(run_dir / "discharge.txt")["step"]
+    assert np.all(np.diff(steps) == steps[1] - steps[0])      # no gap, no repeated row
+    t = read_table(run_dir / "discharge.txt")["t"]
+    run = checkpoint.run_parameters(run_dir)
+    assert t[-1] - float(run["t_open"]) == pytest.approx(0.5, abs=0.01)
+    frames = [step for step, _ in read_dump(run_dir / "dump.cg")]
+    interval = frames[1] - frames[0]
+    assert np.all(np.diff(frames) == interval)                # one frame every 0.05 s, none twice
+    assert frames[0] - int(run["step_open"]) < interval and steps[-1] - frames[-1] < interval
+    reinjected = read_table(run_dir / "reinject.txt")
+    assert np.all(np.diff(reinjected["step"]) > 0) and np.all(np.diff(reinjected["n_out"]) > 0)
+    assert (run_dir / "screen.txt").read_text().count("silo3d_rotating: done at") == 1

@@ -751,7 +751,7 @@ def plot_q_vs_f(path, groups, grains):
     ax = axes[0, 0]
     for D in sorted({g["D"] for g in groups}):
         rows = [g for g in groups if g["D"] == D]
-        ax.errorbar([g["f"] for g in rows], [g["Q"] for g in rows], yerr=[g["Q_ci"] for g in rows],
+        ax.errorbar([g["f"] for g in rows], [g["Q"] for g in rows], yerr=_error_bars([g["Q_ci"] for g in rows]),
                     fmt="o-", capsize=3, label=f"D = {D * 1e3:g} mm")
     ax.set_xlabel("f (Hz)")
     ax.set_ylabel("Q (kg/s)")
@@ -769,7 +769,7 @@ def plot_q_vs_D(path, groups, fits, d, log_q_axis_only):
     curve = np.linspace(D_all.min(), D_all.max(), 100) if D_all.size else np.array([])
     for f in sorted({g["f"] for g in groups}):
         rows = sorted((g for g in groups if g["f"] == f and g["Q"] > 0), key=lambda g: g["D"])
-        line = ax.errorbar([g["D"] for g in rows], [g["Q"] for g in rows], yerr=[g["Q_ci"] for g in rows],
+        line = ax.errorbar([g["D"] for g in rows], [g["Q"] for g in rows], yerr=_error_bars([g["Q_ci"] for g in rows]),
                            fmt="o", capsize=3, label=f"f = {f:g} Hz")
         if f in fits:
             model = (exponential(curve, fits[f]["exponential"]["A"], fits[f]["exponential"]["kappa"])
@@ -832,6 +832,13 @@ def plot_maps(directory, grid, windows, maps):
             for name, title, values_of, stream in specs]
 
 
+def _error_bars(values):
+    """yerr for errorbar: None when no value is finite (one run: no spread
+    over seeds), where matplotlib 3.6 stops with StopIteration."""
+    values = np.asarray(values, dtype=float)
+    return values if np.isfinite(values).any() else None
+
+
 def plot_orifice_vs_f(path, groups, names, labels):
     fig, axes = _figure(len(names), 1, (3.5, 3))
     for ax, name, label in zip(axes[0], names, labels):
@@ -839,7 +846,7 @@ def plot_orifice_vs_f(path, groups, names, labels):
         for D in sorted({g["D"] for g in groups}):
             rows = [g for g in groups if g["D"] == D]
             ax.errorbar([g["f"] for g in rows], [sign * g[name][0] for g in rows],
-                        yerr=[g[name][2] for g in rows], fmt="o-", capsize=3, label=f"D = {D * 1e3:g} mm")
+                        yerr=_error_bars([g[name][2] for g in rows]), fmt="o-", capsize=3, label=f"D = {D * 1e3:g} mm")
         ax.set_xlabel("f (Hz)")
         ax.set_ylabel(label)
     axes[0, 0].legend(fontsize="small")

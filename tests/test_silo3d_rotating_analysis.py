@@ -474,3 +474,14 @@ run 0
     (_, frame), = list(iter_dump(tmp_path / "dump.cg"))
     orientations = silo.frame_particles(frame).orientations
     np.testing.assert_allclose(orientations, axes / np.linalg.norm(axes, axis=1, keepdims=True), atol=1e-12)
+
+
+def test_orifice_averages_of_single_runs_are_plotted_without_error_bars(tmp_path):
+    # one run per (f, D): no spread over seeds, every interval NaN, on which
+    # matplotlib's errorbar stops with StopIteration (run.sh's analysis of a
+    # one-seed campaign did)
+    groups = [{"f": f, "D": 0.05, "v_z": (-0.1 - f, np.nan, np.nan)} for f in (0.0, 0.32)]
+    path = silo.plot_orifice_vs_f(tmp_path / "orifice.png", groups, ["v_z"], ["-<v_z> (m/s)"])
+    assert Path(path).stat().st_size > 0
+    assert silo._error_bars([np.nan, np.nan]) is None
+    np.testing.assert_array_equal(silo._error_bars([0.1, np.nan]), [0.1, np.nan])

@@ -12,3 +12,15 @@ for shape in rod clump; do
 done
 # flow_rate_*.md and flow_rate_runs_*.md are runs/peer_<shape>/analysis/flow_rate*.md
 # (run.sh's analysis, --transient 0.1); loop_times.txt sums each run's 'Loop time' lines.
+# The time step of the clumps (2026-11-25, commit 8bd3392's deck): the two
+# quick clump packings above, f = 0.32 Hz, run at the rods' dt
+# (3.08993237597775e-06 s) instead of the deck's half; records
+# clump_dt_rods_*, table flow_rate_runs_clump_dt_rods.md (--transient 0.1).
+ROOT="$(pwd)"
+for s in 32452843 49979687; do
+  mkdir -p runs/peer_dt/D0.05_f0.32_s$s && (cd runs/peer_dt/D0.05_f0.32_s$s && "$ROOT/build/bin/liggghts" \
+    -in "$ROOT/inputs/silo3d_rotating/in.silo3d_rotating" -var inputs "$ROOT/inputs" -var quick 1 -var N 900 \
+    -var shape clump -var aspect 3.3 -var dt_fraction 40 -var dt 3.08993237597775e-06 -var read_packing 1 \
+    -var packing "$ROOT/runs/peer_clump/packing_s$s/packing.restart" -var reinject 0 -var D 0.05 -var f 0.32 \
+    -var seed $s -var discharge_time 1.0)
+done

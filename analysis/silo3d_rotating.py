@@ -766,7 +766,14 @@ def plot_q_vs_D(path, groups, fits, d, log_q_axis_only):
     fig, axes = _figure()
     ax = axes[0, 0]
     D_all = np.array([g["D"] for g in groups if g["Q"] > 0])
-    curve = np.linspace(D_all.min(), D_all.max(), 100) if D_all.size else np.array([])
+    if not D_all.size:
+        # nothing to put on a log scale (e.g. a short run before the first
+        # grain left); matplotlib would stop at saving
+        ax.text(0.5, 0.5, "no run with Q > 0", ha="center", transform=ax.transAxes)
+        ax.set_xlabel("D (m)")
+        ax.set_ylabel("Q (kg/s)")
+        return _save(fig, path)
+    curve = np.linspace(D_all.min(), D_all.max(), 100)
     for f in sorted({g["f"] for g in groups}):
         rows = sorted((g for g in groups if g["f"] == f and g["Q"] > 0), key=lambda g: g["D"])
         line = ax.errorbar([g["D"] for g in rows], [g["Q"] for g in rows], yerr=_error_bars([g["Q_ci"] for g in rows]),
@@ -779,10 +786,9 @@ def plot_q_vs_D(path, groups, fits, d, log_q_axis_only):
     ax.set_yscale("log")
     if not log_q_axis_only:
         ax.set_xscale("log")
-        if D_all.size:
-            q_all = np.array([g["Q"] for g in groups if g["Q"] > 0])
-            scale = np.exp(np.mean(np.log(q_all) - 2.5 * np.log(D_all)))
-            ax.plot(curve, scale * curve ** 2.5, "k--", label="D^(5/2)")
+        q_all = np.array([g["Q"] for g in groups if g["Q"] > 0])
+        scale = np.exp(np.mean(np.log(q_all) - 2.5 * np.log(D_all)))
+        ax.plot(curve, scale * curve ** 2.5, "k--", label="D^(5/2)")
     ax.set_xlabel("D (m)")
     ax.set_ylabel("Q (kg/s)")
     ax.set_title("Q(D), exponential fits (Fig. 5)" if log_q_axis_only else "Q(D), Beverloo fits (Fig. 4)")

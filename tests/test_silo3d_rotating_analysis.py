@@ -485,3 +485,12 @@ def test_orifice_averages_of_single_runs_are_plotted_without_error_bars(tmp_path
     assert Path(path).stat().st_size > 0
     assert silo._error_bars([np.nan, np.nan]) is None
     np.testing.assert_array_equal(silo._error_bars([0.1, np.nan]), [0.1, np.nan])
+
+
+def test_q_of_d_without_any_flow_is_an_empty_plot_not_an_error(tmp_path):
+    # a short run before the first grain left: Q = 0 everywhere, nothing
+    # for the log axes (matplotlib stopped with "no positive values")
+    groups = [{"f": 0.32, "D": 0.05, "Q": 0.0, "Q_ci": np.nan}]
+    for log_q_axis_only in (False, True):
+        path = silo.plot_q_vs_D(tmp_path / f"q_{log_q_axis_only}.png", groups, {}, 0.0099, log_q_axis_only)
+        assert Path(path).stat().st_size > 0

@@ -29,6 +29,11 @@
 #            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
 #   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900" [""]
 #   CHECKPOINT   s of discharge between checkpoints, 0: none      [0.25]
+#   PEER_OF  clumps: a rod campaign's RUN_DIR (same ASPECT and SEEDS); each
+#            clump packing is then that seed's rod packing with a clump on
+#            every rod (write_poses, read_poses: fix insert/poses), relaxed
+#            RELAX s in the closed silo, instead of a settled gas   [""]
+#   RELAX    s the clumps relax at the rods' poses                 [0.1]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -56,10 +61,16 @@ analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
 # (SILOKIT_LIGGGHTS, SILOKIT_INPUTS): LIGGGHTS reads a deck as it runs
 INPUTS="${SILOKIT_INPUTS:-$ROOT/inputs}"
 DECK="$INPUTS/silo3d_rotating/in.silo3d_rotating"
-COMMON=(-echo none -var inputs "$INPUTS" -var dt_fraction "$DT_FRACTION" -var shape "$SHAPE" -var aspect "$ASPECT")
+PEER_OF="${PEER_OF:-}"
+RELAX="${RELAX:-0.1}"
+[ -z "$PEER_OF" ] || [ "$SHAPE" = clump ] || { echo "run.sh: PEER_OF places clumps on rods: it needs SHAPE=clump" >&2; exit 2; }
+# (LIGGGHTS keeps the first -var of a name: the shape is added last, so
+# that the rods' poses can be written with the same variables)
+BASE=(-echo none -var inputs "$INPUTS" -var dt_fraction "$DT_FRACTION" -var aspect "$ASPECT")
 set -- ${DECK_VARS:-}
 [ $(( $# % 2 )) -eq 0 ] || { echo "run.sh: DECK_VARS needs name value pairs, got: ${DECK_VARS}" >&2; exit 2; }
-while [ $# -ge 2 ]; do COMMON+=(-var "$1" "$2"); shift 2; done
+while [ $# -ge 2 ]; do BASE+=(-var "$1" "$2"); shift 2; done
+COMMON=("${BASE[@]}" -var shape "$SHAPE")
 
 mkdir -p "$RUN_DIR"
 log() { echo "[$(date +%H:%M:%S)] silo3d_rotating: $*"; }
@@ -68,9 +79,21 @@ settle() {   # one packing per seed
   local seed=$1 dir="$RUN_DIR/packing_s$1"
   [ -f "$dir/finished" ] && return 0
   mkdir -p "$dir"
-  log "settling the packing of seed $seed in $dir"
-  (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
-      -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
+  if [ -n "$PEER_OF" ]; then
+    local rods="$PEER_OF/packing_s$seed/packing.restart"
+    [ -f "$rods" ] || { log "FAILED: no rod packing $rods (PEER_OF)"; return 1; }
+    log "clumps on the rods of $rods, relaxed $RELAX s, in $dir"
+    (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${BASE[@]}" -var shape rod -var seed "$seed" \
+        -var read_packing 1 -var packing "$rods" -var write_poses 1 -var poses rod_poses.dump \
+        -var discharge_time 0 > screen_poses.txt 2>&1) || { log "FAILED: see $dir/screen_poses.txt"; return 1; }
+    (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_poses 1 \
+        -var poses rod_poses.dump -var settle_time "$RELAX" -var write_packing 1 -var discharge_time 0 \
+        > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
+  else
+    log "settling the packing of seed $seed in $dir"
+    (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
+        -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
+  fi
   touch "$dir/finished"
 }
 

@@ -46,3 +46,15 @@ SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16" SEEDS="15485863" DT_FRACTION=40 DISCH
 for run in runs/rods_s2/D0.06_f*_s15485863; do
   reduce "$run/dump.cg" /tmp/dump.cg.reduced && xz -9 -c /tmp/dump.cg.reduced > "doc/data/silo3d_rods/$(basename "$run")/dump.cg.xz"
 done
+
+# A third packing (seed 49979687), f = 0 and 0.16 Hz, the same protocol
+# (2026-11-25, same frozen binary; the inputs of commit e50d57b):
+SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.16" SEEDS="49979687" DT_FRACTION=40 DISCHARGE=1.5 TRANSIENT=0.5 \
+  FIELDS="0.06 0 0.06 0.16" JOBS=1 bash examples/silo3d_rotating/run.sh runs/rods_s3
+# three_packings/: the three packings' f = 0 and 0.16 Hz runs together
+/usr/bin/python3 -m analysis.silo3d_rotating runs/rods/D0.06_f0_s32452843 runs/rods/D0.06_f0.16_s32452843 \
+    runs/rods_s2/D0.06_f0_s15485863 runs/rods_s2/D0.06_f0.16_s15485863 \
+    runs/rods_s3/D0.06_f0_s49979687 runs/rods_s3/D0.06_f0.16_s49979687 --out runs/three_packings --transient 0.5
+for run in runs/rods_s3/D0.06_f*_s49979687; do
+  reduce "$run/dump.cg" /tmp/dump.cg.reduced && xz -9 -c /tmp/dump.cg.reduced > "doc/data/silo3d_rods/$(basename "$run")/dump.cg.xz"
+done

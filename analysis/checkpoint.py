@@ -26,6 +26,8 @@ import os
 import sys
 from pathlib import Path
 
+from analysis.silo3d_rotating import read_run_info
+
 CHECKPOINTS = "checkpoints.txt"
 ROW_RECORDS = ("discharge.txt", "reinject.txt")   # one row per step, step first
 DUMPS = ("dump.cg", "dump.contacts")
@@ -41,16 +43,6 @@ def last_checkpoint(run_dir):
         if len(words) == 2 and (Path(run_dir) / words[1]).exists():
             return int(words[0]), Path(run_dir) / words[1]
     return None
-
-
-def run_parameters(run_dir):
-    """run.txt as a dict of strings (key value per line)."""
-    values = {}
-    for line in (Path(run_dir) / "run.txt").read_text().splitlines():
-        words = line.split()
-        if len(words) == 2 and not line.startswith("#"):
-            values[words[0]] = words[1]
-    return values
 
 
 def _replace(path, lines):
@@ -96,7 +88,7 @@ def resume_variables(run_dir):
     if found is None:
         return None
     step, checkpoint = found
-    run = run_parameters(run_dir)
+    run = read_run_info(run_dir, required=("dt", "t_open", "N", "step_open"))
     for name in ROW_RECORDS:
         cut_rows(Path(run_dir) / name, step)
     for name in DUMPS:
@@ -105,9 +97,9 @@ def resume_variables(run_dir):
     _replace(run_txt, [line for line in run_txt.read_text().splitlines(keepends=True)
                        if not line.startswith("finished")])
     step_open = int(run["step_open"])
-    t_resume = float(run["t_open"]) + (step - step_open) * float(run["dt"])
+    t_resume = run["t_open"] + (step - step_open) * run["dt"]
     return {"resume": 1, "checkpoint": str(checkpoint.resolve()), "t_resume": repr(t_resume),
-            "n_open_resumed": run["N"], "step_open_resumed": step_open}
+            "n_open_resumed": int(run["N"]), "step_open_resumed": step_open}
 
 
 def remove_checkpoints(run_dir):

@@ -45,10 +45,10 @@ def progress(message):
 
 # ---------------------------------------------------------------- records
 
-def read_run_info(run_dir):
+def read_run_info(run_dir, required=RUN_KEYS):
     """run.txt: `key value` lines, '#' comments; numbers as floats, words
-    (`shape rod`) as strings; the keys of RUN_KEYS are required (an error
-    names the file and the missing keys)."""
+    (`shape rod`) as strings; the keys of `required` (RUN_KEYS for the
+    analysis) must be there (an error names the file and the missing keys)."""
     path = Path(run_dir) / "run.txt"
     info = {}
     for line in path.read_text().splitlines():
@@ -59,7 +59,7 @@ def read_run_info(run_dir):
                 info[key] = float(value)
             except ValueError:
                 info[key] = value
-    missing = [key for key in RUN_KEYS if key not in info]
+    missing = [key for key in required if key not in info]
     if missing:
         raise ValueError(f"{path}: missing keys {missing}")
     return info

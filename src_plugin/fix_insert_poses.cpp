@@ -195,21 +195,15 @@ int FixInsertPoses::calc_ninsert_this()
   return ninserted > 0 ? 0 : ninsert;
 }
 
-bool FixInsertPoses::in_my_subdomain(const double *x) const
-{
-  for (int dim = 0; dim < 3; ++dim)
-    if (x[dim] < domain->sublo[dim] || x[dim] >= domain->subhi[dim]) return false;
-  return true;
-}
-
-// each rank inserts the poses in its sub-domain; FixInsert checks that
+// each rank inserts the poses in its sub-domain (lo <= x < hi; every pose
+// lies inside the box, read_poses); FixInsert checks that
 // the counts add up to ninsert_this (MPI_Sum after generate_list)
 int FixInsertPoses::distribute_ninsert_this(int ninsert_this)
 {
   local_poses_.clear();
   if (ninsert_this == 0) return 0;
   for (int n = 0; n < ninsert; ++n)
-    if (in_my_subdomain(&poses_[values_per_pose*n])) local_poses_.push_back(n);
+    if (domain->is_in_subdomain(&poses_[values_per_pose*n])) local_poses_.push_back(n);
   return static_cast<int>(local_poses_.size());
 }
 

@@ -45,7 +45,6 @@ class FixInsertPoses : public FixInsert {
 
  private:
   void read_poses(const std::string &path);
-  bool in_my_subdomain(const double *x) const;
   void centre_on_pose(class ParticleToInsert *pti, const double *pose);
 
   std::vector<double> poses_;       // x y z ax ay az (unit axis) per body, every rank

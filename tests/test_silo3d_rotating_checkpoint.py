@@ -25,6 +25,7 @@ import pytest
 
 from analysis import checkpoint
 from analysis.lammps_io import read_dump, read_table
+from analysis.silo3d_rotating import read_run_info
 from conftest import LIGGGHTS, ROOT, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -84,7 +85,7 @@ def test_the_resume_variables_come_from_the_last_checkpoint_on_disk_and_run_txt(
     (tmp_path / "dump.cg").write_text(frames + "ITEM: TIMESTEP\n")
     variables = checkpoint.resume_variables(tmp_path)
     assert variables == {"resume": 1, "checkpoint": str((tmp_path / "checkpoint.500.restart").resolve()),
-                         "t_resume": repr(0.4 + 100 * 0.001), "n_open_resumed": "900",
+                         "t_resume": repr(0.4 + 100 * 0.001), "n_open_resumed": 900,
                          "step_open_resumed": 400}
     assert list(read_table(tmp_path / "discharge.txt")["step"]) == [400, 450, 500]
     assert [step for step, _ in read_dump(tmp_path / "dump.cg")] == [400, 450]   # 500 is written again
@@ -118,8 +119,8 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path):
     steps = read_table(run_dir / "discharge.txt")["step"]
     assert np.all(np.diff(steps) == steps[1] - steps[0])      # no gap, no repeated row
     t = read_table(run_dir / "discharge.txt")["t"]
-    run = checkpoint.run_parameters(run_dir)
-    assert t[-1] - float(run["t_open"]) == pytest.approx(0.5, abs=0.01)
+    run = read_run_info(run_dir)
+    assert t[-1] - run["t_open"] == pytest.approx(0.5, abs=0.01)
     frames = [step for step, _ in read_dump(run_dir / "dump.cg")]
     interval = frames[1] - frames[0]
     assert np.all(np.diff(frames) == interval)                # one frame every 0.05 s, none twice

@@ -10,8 +10,8 @@ test_silo3d_rotating_checkpoint.py.)
 import os
 import subprocess
 
-from analysis import checkpoint
 from analysis.lammps_io import read_dump, read_table
+from analysis.silo3d_rotating import read_run_info
 from conftest import LIGGGHTS, ROOT
 
 RUN_SH = ROOT / "examples" / "silo3d_rotating" / "run.sh"
@@ -37,10 +37,10 @@ def test_peer_of_places_a_clump_on_every_rod_of_the_rods_packing(tmp_path):
     assert "inserted 300 particle templates" in (packing / "screen.txt").read_text()
     # the rods' poses are those of their packing: the rods' own discharge
     # from it starts with the same grains
-    assert checkpoint.run_parameters(tmp_path / "rods" / "D0.05_f0.32_s32452843")["N"] == "300"
+    assert read_run_info(tmp_path / "rods" / "D0.05_f0.32_s32452843")["N"] == 300
     run = tmp_path / "clumps" / "D0.05_f0.32_s32452843"
-    parameters = checkpoint.run_parameters(run)
-    assert parameters["shape"] == "clump" and parameters["N"] == "300" and "finished" in parameters
+    parameters = read_run_info(run)
+    assert parameters["shape"] == "clump" and parameters["N"] == 300 and "finished" in parameters
     assert read_table(run / "discharge.txt")["n_out"][0] == 0
 
 

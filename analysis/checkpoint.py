@@ -26,7 +26,7 @@ import os
 import sys
 from pathlib import Path
 
-from analysis.silo3d_rotating import read_run_info
+from analysis.silo3d_records import read_run_info
 
 CHECKPOINTS = "checkpoints.txt"
 ROW_RECORDS = ("discharge.txt", "reinject.txt")   # one row per step, step first

@@ -17,7 +17,7 @@ bench/results/silo3d_rotating_cost.txt.
    is read from the packing).
 2. Flow-rate agreement, ours against the mesh peer: the same packing, D and
    f, run --flow-time seconds each; stationary Q after --transient, with
-   block standard errors (analysis/silo3d_rotating.py).
+   block standard errors (analysis/silo3d_flow.py).
 3. Accuracy against cost: the quick silo (Dc = 12 d, 900 spheres, D = 5 d,
    f = 0.32 Hz, reinjection) at dt = t_c/158 (the paper's 1e-6 s), t_c/80,
    t_c/40, t_c/20, --seeds gas seeds each: stationary Q with its 95 % CI
@@ -39,7 +39,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis import silo3d_rotating as silo  # noqa: E402
+from analysis.silo3d_flow import analyse_flow  # noqa: E402
+from analysis.silo3d_records import load_run  # noqa: E402
 from analysis.stl import annulus_triangles, write_stl  # noqa: E402
 
 DECK = benchlib.ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -100,8 +101,8 @@ def measure_costs(work, packing_path, stl, repetitions, flow_time, dt_fraction):
 
 
 def flow_rate_of(run_dir, transient):
-    run = silo.load_run(run_dir)
-    return silo.analyse_flow(run, transient=transient)
+    run = load_run(run_dir)
+    return analyse_flow(run, transient=transient)
 
 
 def measure_agreement(work, packing_path, stl, flow_time, transient, dt_fraction):

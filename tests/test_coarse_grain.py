@@ -17,7 +17,8 @@ sys.path.insert(0, str(ROOT))
 
 from analysis import coarse_grain as cg  # noqa: E402
 from analysis.deck_blocks import granular_setup, hooke_materials  # noqa: E402
-from analysis.silo3d_rotating import frame_particles, iter_dump  # noqa: E402
+from analysis.lammps_io import iter_dump  # noqa: E402
+from analysis.silo3d_records import frame_particles  # noqa: E402
 
 RHO = 620.0
 

@@ -1,8 +1,10 @@
-"""analysis.silo3d_rotating: the readers on real LIGGGHTS output (dump
-custom, dump local of compute pair/gran/local and its force convention), the
-stationary flow rate on synthetic discharge records whose answer is worked
-out here by hand, seed statistics, the Beverloo and exponential fits, and
-the CLI on synthetic run directories."""
+"""The rotating-bottom silo's analysis: the readers of
+analysis.silo3d_records on real LIGGGHTS output (dump custom, dump local of
+compute pair/gran/local and its force convention), the stationary flow rate
+of analysis.silo3d_flow on synthetic discharge records whose answer is
+worked out here by hand, seed statistics, the Beverloo and exponential fits,
+and the CLI (analysis.silo3d_rotating, with the fields of
+analysis.silo3d_fields) on synthetic run directories."""
 
 import math
 import subprocess
@@ -16,6 +18,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from analysis import coarse_grain as cg  # noqa: E402
+from analysis import silo3d_flow, silo3d_records  # noqa: E402
 from analysis import silo3d_rotating as silo  # noqa: E402
 from analysis.deck_blocks import granular_setup, hooke_materials  # noqa: E402
 from analysis.lammps_io import dump_steps, iter_dump, read_table  # noqa: E402
@@ -57,7 +60,7 @@ run {steps}
 def test_pair_gran_local_force_is_on_the_first_grain(run, tmp_path):
     run(chain_deck())
     (_, columns), = list(iter_dump(tmp_path / "dump.contacts"))
-    named = silo.contact_columns(columns)
+    named = silo3d_records.contact_columns(columns)
     assert len(named["id1"]) == 2 and np.all(named["periodic"] == 0)
     first = np.column_stack([named["x1"], named["y1"], named["z1"]])
     second = np.column_stack([named["x2"], named["y2"], named["z2"]])
@@ -75,7 +78,7 @@ def test_contacts_from_liggghts_give_the_chain_virial(run, tmp_path):
     # by hand: two contacts, each f (x) r = (1 N)(9 mm) e_x e_x, compressive
     run(chain_deck())
     (_, columns), = list(iter_dump(tmp_path / "dump.contacts"))
-    contacts = silo.frame_contacts(columns)
+    contacts = silo3d_records.frame_contacts(columns)
     virial = np.einsum("ka,kb->ab", contacts.forces, contacts.starts - contacts.ends)
     expected = np.zeros((3, 3))
     expected[0, 0] = 2 * (KN * 0.001) * 0.009
@@ -98,7 +101,7 @@ def test_iter_dump_streams_frames_and_skips_unwanted(run, tmp_path):
         picked = list(iter_dump(tmp_path / name, wanted=lambda step: step in (100, 300)))
         assert [s for s, _ in picked] == [100, 300]
     (_, frame), = list(iter_dump(tmp_path / "dump.cg", wanted=lambda step: step == 300))
-    particles = silo.frame_particles(frame)
+    particles = silo3d_records.frame_particles(frame)
     assert particles.orientations is None
     # grains fell freely for 300 steps of 1 us: v_z = -g t (the chain is horizontal)
     assert np.allclose(particles.velocities[:, 2], -9.81 * 300e-6, rtol=1e-6)
@@ -108,19 +111,19 @@ def test_iter_dump_streams_frames_and_skips_unwanted(run, tmp_path):
 def test_orientation_columns_are_normalised():
     columns = {name: np.array([1.0, 0.0]) for name in ("x", "y", "z", "vx", "vy", "vz", "mass")}
     columns.update({"ox": np.array([3.0, 0.0]), "oy": np.array([4.0, 0.0]), "oz": np.array([0.0, -2.0])})
-    assert np.allclose(silo.frame_particles(columns).orientations, [[0.6, 0.8, 0.0], [0.0, 0.0, -1.0]])
+    assert np.allclose(silo3d_records.frame_particles(columns).orientations, [[0.6, 0.8, 0.0], [0.0, 0.0, -1.0]])
 
 
 def test_contact_columns_refuse_other_layouts():
     with pytest.raises(ValueError, match="pos id force"):
-        silo.contact_columns({f"c_pgl[{k}]": np.zeros(1) for k in range(1, 10)})
+        silo3d_records.contact_columns({f"c_pgl[{k}]": np.zeros(1) for k in range(1, 10)})
 
 
 def test_time_since_opening_from_the_discharge_record():
     # the record starts at step 5000, t = 0.5 s; dt = 1e-4; t_open = 0.5
     discharge = {"step": np.array([5000.0, 5100.0]), "t": np.array([0.5, 0.51])}
     info = {"dt": 1e-4, "t_open": 0.5}
-    assert silo.time_since_opening([5000, 15000, 4000], discharge, info) == pytest.approx([0.0, 1.0, -0.1])
+    assert silo3d_records.time_since_opening([5000, 15000, 4000], discharge, info) == pytest.approx([0.0, 1.0, -0.1])
 
 
 # ------------------------------------------------------------------ flow rate
@@ -149,9 +152,9 @@ def test_stationary_rate_removes_long_no_flow_intervals_by_hand():
     # or in (12, 12.5) (0.5 s, kept: shorter than 1 s)
     exits = regular_exits(20.0, 20.0, gaps=[(5.0, 8.0), (12.0, 12.5)])
     tau, n_out, mass_out = record(exits, 20.0)
-    start, end = silo.analysis_window(tau, mass_out, total_mass=1.0, reinject=True, transient=1.0)
+    start, end = silo3d_flow.analysis_window(tau, mass_out, total_mass=1.0, reinject=True, transient=1.0)
     assert (start, end) == (1.0, 20.0)
-    flow = silo.stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=1.0, blocks=10)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=1.0, blocks=10)
     # exits in (1, 20]: j = 20 ... 399 (380), less j = 100 ... 159 in the
     # 3-s gap (60) and j = 240 ... 249 in the short one (10): 310 grains.
     # The 3-s gap is seen from the sample after the exit at 4.975 (4.98)
@@ -173,16 +176,16 @@ def test_window_start_transient_and_end_when_nearly_empty():
     # seen at the sample 11.98
     exits = regular_exits(20.0, 20.0)
     tau, n_out, mass_out = record(exits, 20.0)
-    assert silo.analysis_window(tau, mass_out, 0.4, reinject=False, transient=2.0,
-                                end_fraction=0.6) == pytest.approx((2.0, 11.98))
-    assert silo.analysis_window(tau, mass_out, 0.4, reinject=True, transient=2.0) == pytest.approx((2.0, 20.0))
+    assert silo3d_flow.analysis_window(tau, mass_out, 0.4, reinject=False, transient=2.0,
+                                       end_fraction=0.6) == pytest.approx((2.0, 11.98))
+    assert silo3d_flow.analysis_window(tau, mass_out, 0.4, reinject=True, transient=2.0) == pytest.approx((2.0, 20.0))
 
 
 def test_flow_that_stops_for_good_is_cut_and_flagged():
     # exits until 15 s, then nothing up to 20 s: [14.98, 20] is removed
     exits = regular_exits(20.0, 15.0)
     tau, n_out, mass_out = record(exits, 20.0)
-    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 1.0, 20.0, min_gap=1.0)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 1.0, 20.0, min_gap=1.0)
     assert np.allclose(flow.gaps, [[14.98, 20.0]])
     assert flow.clogged_at_end
     # exits j = 20 ... 299 (280) over 13.98 s
@@ -196,12 +199,12 @@ def test_a_clog_with_a_grain_or_two_after_it_has_no_stationary_flow():
     # left hold one grain: flowing 0.24 s < 0.5 x 1.5 s, no stationary flow
     exits = np.append(regular_exits(20.0, 0.3), 1.755)
     tau, n_out, mass_out = record(exits, 2.0)
-    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0)
     assert np.allclose(flow.gaps, [[0.5, 1.76]])
     assert flow.effective_duration == pytest.approx(0.24)
     assert not flow.stationary and np.isnan(flow.q_grains) and np.isnan(flow.q_mass_se)
     # without the rule, that one grain would be a flow rate of 1/0.24 grains/s
-    kept = silo.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0, min_flowing_fraction=0.0)
+    kept = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0, min_flowing_fraction=0.0)
     assert kept.stationary and kept.q_grains == pytest.approx(1 / 0.24, rel=1e-9)
 
 
@@ -212,25 +215,25 @@ def test_block_error_of_a_poisson_flow():
     rng = np.random.default_rng(12)
     exits = np.cumsum(rng.exponential(1 / 50.0, 12000))
     tau, n_out, mass_out = record(exits[exits < 200.0], 200.0)
-    flow = silo.stationary_flow_rate(tau, n_out, mass_out, 0.0, 200.0, blocks=40)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 200.0, blocks=40)
     assert flow.q_grains == pytest.approx(50.0, abs=4 * 0.5)
     assert flow.q_grains_se == pytest.approx(0.5, rel=0.35)
 
 
 def test_seed_mean_ci_student_t_by_hand():
     # 1, 2, 3: mean 2, sample sd 1, se 1/sqrt 3, t(0.975, 2 dof) = 4.302652729911275
-    mean, se, half = silo.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
+    mean, se, half = silo3d_flow.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
     assert (mean, se) == pytest.approx((2.0, 1 / math.sqrt(3)))
     assert half == pytest.approx(4.302652729911275 / math.sqrt(3), rel=1e-12)
     # a single seed: its own block se, t(0.975, 9 dof) = 2.262157162740992
-    mean, se, half = silo.seed_mean_ci([5.0], [0.2], [9])
+    mean, se, half = silo3d_flow.seed_mean_ci([5.0], [0.2], [9])
     assert (mean, se, half) == pytest.approx((5.0, 0.2, 2.262157162740992 * 0.2), rel=1e-12)
 
 
 def flow_run(f, D, seed, q, q_se, blocks=10):
     """A Run with only what flow_changes reads: f, D, seed and its FlowRate."""
-    flow = silo.FlowRate(q, q_se, np.nan, np.nan, blocks, 0.0, 1.0, 1.0, np.zeros((0, 2)), False)
-    return silo.Run(Path("."), {"f": f, "D": D, "seed": seed}, {}, np.zeros(0), flow)
+    flow = silo3d_flow.FlowRate(q, q_se, np.nan, np.nan, blocks, 0.0, 1.0, 1.0, np.zeros((0, 2)), False)
+    return silo3d_records.Run(Path("."), {"f": f, "D": D, "seed": seed}, {}, np.zeros(0), flow)
 
 
 def test_relative_change_from_rest_is_paired_by_seed_by_hand():
@@ -239,7 +242,7 @@ def test_relative_change_from_rest_is_paired_by_seed_by_hand():
             flow_run(0.0, 0.06, 1, 2.0, 0.1), flow_run(0.32, 0.06, 1, 2.2, 0.1),
             flow_run(0.32, 0.06, 2, 9.9, 0.1),             # seed 2 has no f = 0 run at 6 cm
             flow_run(0.32, 0.05, 1, 1.0, 0.1)]             # nor has any seed at 5 cm
-    rows = {(r["f"], r["D"]): r for r in silo.flow_changes(runs)}
+    rows = {(r["f"], r["D"]): r for r in silo3d_flow.flow_changes(runs)}
     assert sorted(rows) == [(0.32, 0.06), (1.28, 0.04)]
     # two seeds: changes 0.1 and 0.2 (paired; the means would give 3.5/3 - 1 = 0.1667):
     # mean 0.15, se = sd/sqrt 2 = 0.05, t(0.975, 1 dof) = 12.706204736174707
@@ -262,12 +265,12 @@ GRAIN = 0.0099
 def test_beverloo_fit_recovers_exact_and_noisy_parameters():
     C, k = 40.0, 1.4
     Q = C * (D_VALUES - k * GRAIN) ** 2.5
-    fit = silo.fit_beverloo(D_VALUES, Q, 0.02 * Q, GRAIN)
+    fit = silo3d_flow.fit_beverloo(D_VALUES, Q, 0.02 * Q, GRAIN)
     assert (fit["C"], fit["k"]) == pytest.approx((C, k), rel=1e-6)
     assert fit["dof"] == 3 and fit["chi2_dof"] < 1e-10
     sigma = 0.03 * Q
     noisy = Q + np.random.default_rng(13).normal(size=Q.size) * sigma
-    fit = silo.fit_beverloo(D_VALUES, noisy, sigma, GRAIN)
+    fit = silo3d_flow.fit_beverloo(D_VALUES, noisy, sigma, GRAIN)
     assert abs(fit["C"] - C) < 3 * fit["C_se"] and abs(fit["k"] - k) < 3 * fit["k_se"]
     assert 0 < fit["k_se"] < 1.0
 
@@ -275,11 +278,11 @@ def test_beverloo_fit_recovers_exact_and_noisy_parameters():
 def test_exponential_fit_recovers_parameters():
     A, kappa = 2e-3, 84.0          # the paper's kappa = 0.084 /mm
     Q = A * np.exp(kappa * D_VALUES)
-    fit = silo.fit_exponential(D_VALUES, Q, 0.02 * Q)
+    fit = silo3d_flow.fit_exponential(D_VALUES, Q, 0.02 * Q)
     assert (fit["A"], fit["kappa"]) == pytest.approx((A, kappa), rel=1e-6)
     sigma = 0.05 * Q
     noisy = Q + np.random.default_rng(14).normal(size=Q.size) * sigma
-    fit = silo.fit_exponential(D_VALUES, noisy, sigma)
+    fit = silo3d_flow.fit_exponential(D_VALUES, noisy, sigma)
     assert abs(fit["kappa"] - kappa) < 3 * fit["kappa_se"]
 
 
@@ -441,11 +444,11 @@ def test_a_frame_written_twice_is_read_once(tmp_path):
     run_dir = tmp_path / "run"
     run_dir.mkdir()
     (run_dir / "dump.cg").write_text("".join(frame.format(step=s) for s in (10, 20, 20, 30)))
-    run = silo.Run(run_dir, {}, {}, np.array([]))
+    run = silo3d_records.Run(run_dir, {}, {}, np.array([]))
     steps = dump_steps(run_dir / "dump.cg")
     assert steps.tolist() == [10, 20, 20, 30]
     read = [(step, particles.positions[0, 2], contacts)
-            for step, particles, contacts in silo.frames_with_contacts(run, steps[[1, 2, 3]])]
+            for step, particles, contacts in silo3d_records.frames_with_contacts(run, steps[[1, 2, 3]])]
     assert read == [(20, 20.0, None), (30, 30.0, None)]
 
 
@@ -472,7 +475,7 @@ dump_modify cg sort id format "%d %d{' %.17g' * 12}"
 run 0
 """)
     (_, frame), = list(iter_dump(tmp_path / "dump.cg"))
-    orientations = silo.frame_particles(frame).orientations
+    orientations = silo3d_records.frame_particles(frame).orientations
     np.testing.assert_allclose(orientations, axes / np.linalg.norm(axes, axis=1, keepdims=True), atol=1e-12)
 
 

@@ -25,7 +25,7 @@ import pytest
 
 from analysis import checkpoint
 from analysis.lammps_io import read_dump, read_table
-from analysis.silo3d_rotating import read_run_info
+from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"

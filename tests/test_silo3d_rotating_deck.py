@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump, read_table
-from analysis.silo3d_rotating import stationary_flow_rate
+from analysis.silo3d_flow import stationary_flow_rate
 from conftest import ROOT, LiggghtsError, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -82,7 +82,7 @@ def run_parameters(path):
 
 
 def flow_rate(record, t_open):
-    """The analysis' stationary flow rate (analysis.silo3d_rotating) after
+    """The analysis' stationary flow rate (analysis.silo3d_flow) after
     the start-up, with its standard error from block averages."""
     flow = stationary_flow_rate(record["t"], record["n_out"], record["mass_out"],
                                 t_open + SKIP_AFTER_OPEN, record["t"][-1])

@@ -11,7 +11,7 @@ import os
 import subprocess
 
 from analysis.lammps_io import read_dump, read_table
-from analysis.silo3d_rotating import read_run_info
+from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT
 
 RUN_SH = ROOT / "examples" / "silo3d_rotating" / "run.sh"

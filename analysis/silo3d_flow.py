@@ -1,0 +1,314 @@
+"""Flow rate of the rotating-bottom silo (Pongó, Börzsönyi and Hidalgo
+2022, sec. III): the analysis window of a run's discharge record, its
+no-flow intervals and effective time, the stationary flow rate with block
+standard errors (FlowRate), the runs' labels and their grouping by (f, D),
+means and Student-t intervals over seeds, the change of Q from f = 0 paired
+by seed, and the Beverloo and exponential fits of Q(D); also the defaults
+that the fields share (BLOCKS, CONFIDENCE) and the progress line.
+
+The window, the no-flow rule and the errors are defined in
+doc/silo3d_rotating_records.md (the record format too); runs come from
+analysis.silo3d_records.load_run.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize, stats
+
+# Stationary-window defaults (s, or a fraction of the grains), see
+# doc/silo3d_rotating_records.md.
+TRANSIENT = 1.0
+MIN_GAP = 1.0
+MIN_FLOWING_FRACTION = 0.5
+END_FRACTION = 0.6
+BLOCKS = 10
+CONFIDENCE = 0.95
+
+
+def progress(message):
+    print(f"silo3d_rotating: {message}", flush=True)
+
+
+# ---------------------------------------------------------------- flow rate
+
+def analysis_window(tau, mass_out, total_mass, reinject, transient=TRANSIENT,
+                    end_fraction=END_FRACTION):
+    """(start, end) in time since opening, on sample times: the first
+    sample at or after `transient`; the last sample, or for a run without
+    reinjection the first sample at which the discharged mass reaches
+    end_fraction of all the grains' mass (the silo nearly empty)."""
+    tau = np.asarray(tau, dtype=float)
+    after = np.flatnonzero(tau >= transient)
+    if after.size == 0:
+        return np.nan, np.nan
+    start = tau[after[0]]
+    end = tau[-1]
+    if not reinject:
+        emptied = np.flatnonzero(np.asarray(mass_out) >= end_fraction * total_mass)
+        if emptied.size:
+            end = tau[emptied[0]]
+    return start, max(start, end)
+
+
+def no_flow_intervals(tau, n_out, start, end, min_gap=MIN_GAP):
+    """Intervals longer than min_gap without a grain out, as an (k, 2)
+    array. Marks are the window's ends and every sample in (start, end]
+    whose n_out exceeds the previous sample's (a grain left in the sampling
+    interval ending there); a no-flow interval is the span between two
+    consecutive marks, so it is known to one sampling interval."""
+    tau = np.asarray(tau, dtype=float)
+    n_out = np.asarray(n_out, dtype=float)
+    exits = tau[1:][(n_out[1:] > n_out[:-1]) & (tau[1:] > start) & (tau[1:] <= end)]
+    marks = np.unique(np.concatenate([[start], exits, [end]]))
+    spans = np.column_stack([marks[:-1], marks[1:]])
+    return spans[spans[:, 1] - spans[:, 0] > min_gap]
+
+
+def effective_time(tau, start, gaps):
+    """Time since `start` with the no-flow intervals cut out of the time
+    base (a sample inside a gap sits at the gap's start)."""
+    tau = np.asarray(tau, dtype=float)
+    removed = np.zeros_like(tau)
+    for gap_start, gap_end in gaps:
+        removed += np.clip(tau - gap_start, 0.0, gap_end - gap_start)
+    return tau - start - removed
+
+
+@dataclass
+class FlowRate:
+    """Stationary flow rate of one run (mass and grains per second), its
+    standard error from block averages, and the window it comes from."""
+    q_mass: float
+    q_mass_se: float
+    q_grains: float
+    q_grains_se: float
+    blocks: int
+    start: float
+    end: float
+    effective_duration: float
+    gaps: np.ndarray
+    clogged_at_end: bool
+    stationary: bool = True
+
+    @property
+    def removed(self):
+        return float(np.sum(self.gaps[:, 1] - self.gaps[:, 0])) if len(self.gaps) else 0.0
+
+
+def block_rates(tau_eff, cumulative, duration, blocks):
+    """Rates of `blocks` equal blocks of effective time: the increase of a
+    cumulative count over each block, the count at a block edge being that
+    of the last sample at or before it (a gap's end sample, at the same
+    effective time as its start, is the later one and counts)."""
+    edges = np.linspace(0.0, duration, blocks + 1)
+    index = np.searchsorted(tau_eff, edges, side="right") - 1
+    at_edges = np.asarray(cumulative, dtype=float)[np.maximum(index, 0)]
+    return np.diff(at_edges) / np.diff(edges)
+
+
+def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, blocks=BLOCKS,
+                         min_flowing_fraction=MIN_FLOWING_FRACTION):
+    """Q over [start, end] with the no-flow intervals longer than min_gap
+    removed from the time base: Q = (m(end) - m(start)) / T_eff. Its
+    standard error is std(Q_b, ddof=1)/sqrt(B) over B blocks of equal
+    effective time (block averages: robust to the correlation of exits
+    that a fit to the cumulative mass ignores). A run that flowed for less
+    than min_flowing_fraction of the window has no stationary flow (a clog
+    that a grain or two left in the remaining time would otherwise give a
+    Q): its Q and errors are NaN and `stationary` is False."""
+    tau = np.asarray(tau, dtype=float)
+    inside = (tau >= start) & (tau <= end)
+    gaps = no_flow_intervals(tau, n_out, start, end, min_gap)
+    tau_eff = effective_time(tau[inside], start, gaps)
+    duration = tau_eff[-1] if inside.any() else 0.0
+    clogged = bool(len(gaps) and gaps[-1, 1] >= end)
+    if duration <= 0 or duration < min_flowing_fraction * (end - start):
+        return FlowRate(np.nan, np.nan, np.nan, np.nan, blocks, start, end, max(duration, 0.0), gaps,
+                        clogged, stationary=False)
+    rates = {}
+    for name, cumulative in (("mass", mass_out), ("grains", n_out)):
+        cumulative = np.asarray(cumulative, dtype=float)[inside]
+        per_block = block_rates(tau_eff, cumulative, duration, blocks)
+        rates[name] = ((cumulative[-1] - cumulative[0]) / duration,
+                       per_block.std(ddof=1) / np.sqrt(blocks))
+    return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged)
+
+
+def smoothed_rate(tau, cumulative, window):
+    """Q(tau) = [m(tau + window/2) - m(tau - window/2)] / window on the samples
+    (cumulative interpolated linearly), for plots."""
+    tau = np.asarray(tau, dtype=float)
+    ahead = np.interp(tau + 0.5 * window, tau, cumulative)
+    behind = np.interp(tau - 0.5 * window, tau, cumulative)
+    span = np.minimum(tau + 0.5 * window, tau[-1]) - np.maximum(tau - 0.5 * window, tau[0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (ahead - behind) / span
+
+
+def seed_mean_ci(means, standard_errors, dofs, level=CONFIDENCE):
+    """Mean over seeds of per-run values, its standard error and the
+    half width of its Student-t confidence interval: from the spread of the
+    runs (n - 1 degrees of freedom) when there are n >= 2; for one run from
+    its own standard error with that run's degrees of freedom."""
+    means = np.asarray(means, dtype=float)
+    n = means.size
+    if n >= 2:
+        se = means.std(ddof=1) / np.sqrt(n)
+        dof = n - 1
+    else:
+        se, dof = float(standard_errors[0]), int(dofs[0])
+    half = stats.t.ppf(0.5 + 0.5 * level, dof) * se if dof > 0 else np.nan
+    return float(means.mean()), float(se), float(half)
+
+
+# ---------------------------------------------------------------- fits
+
+def beverloo(D, C, k, d):
+    """Q = C (D - k d)^(5/2), zero below D = k d."""
+    return C * np.clip(np.asarray(D, dtype=float) - k * d, 0.0, None) ** 2.5
+
+
+def exponential(D, A, kappa):
+    """Q = A exp(kappa D)."""
+    return A * np.exp(kappa * np.asarray(D, dtype=float))
+
+
+def _fit_summary(names, values, covariance, residuals, n_points):
+    dof = n_points - len(values)
+    errors = np.sqrt(np.diag(covariance))
+    summary = {name: float(v) for name, v in zip(names, values)}
+    summary.update({f"{name}_se": float(e) for name, e in zip(names, errors)})
+    summary["dof"] = dof
+    summary["chi2_dof"] = float(np.sum(residuals ** 2) / dof) if dof > 0 else np.nan
+    return summary
+
+
+def fit_beverloo(D, Q, sigma, d):
+    """Weighted least squares of Q = C (D - k d)^(5/2) (curve_fit with
+    absolute sigma: parameter errors are standard errors given sigma).
+    Starts from the straight line Q^(2/5) = C^(2/5) (D - k d); k is bounded
+    so that D - k d > 0 at every data point."""
+    D, Q, sigma = (np.asarray(a, dtype=float) for a in (D, Q, sigma))
+    slope, intercept = np.polyfit(D, Q ** 0.4, 1)
+    guess = (slope ** 2.5, -intercept / (slope * d))
+    k_max = D.min() / d * (1 - 1e-9)
+    guess = (guess[0], min(guess[1], k_max * (1 - 1e-6)))
+    values, covariance = optimize.curve_fit(
+        lambda x, C, k: beverloo(x, C, k, d), D, Q, p0=guess, sigma=sigma,
+        absolute_sigma=True, bounds=([0.0, -np.inf], [np.inf, k_max]))
+    residuals = (Q - beverloo(D, *values, d)) / sigma
+    return _fit_summary(("C", "k"), values, covariance, residuals, D.size)
+
+
+def fit_exponential(D, Q, sigma):
+    """Weighted least squares of Q = A exp(kappa D), started from the
+    straight line ln Q = ln A + kappa D."""
+    D, Q, sigma = (np.asarray(a, dtype=float) for a in (D, Q, sigma))
+    kappa, log_a = np.polyfit(D, np.log(Q), 1)
+    values, covariance = optimize.curve_fit(exponential, D, Q, p0=(np.exp(log_a), kappa),
+                                            sigma=sigma, absolute_sigma=True)
+    residuals = (Q - exponential(D, *values)) / sigma
+    return _fit_summary(("A", "kappa"), values, covariance, residuals, D.size)
+
+
+# ---------------------------------------------------------------- per-run flow
+
+def analyse_flow(run, transient=TRANSIENT, min_gap=MIN_GAP, end_fraction=END_FRACTION, blocks=BLOCKS,
+                 min_flowing_fraction=MIN_FLOWING_FRACTION):
+    total_mass = run.info["N"] * run.info["mass"]
+    start, end = analysis_window(run.tau, run.discharge["mass_out"], total_mass,
+                                 bool(run.info["reinject"]), transient, end_fraction)
+    run.flow = stationary_flow_rate(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
+                                    start, end, min_gap, blocks, min_flowing_fraction)
+    return run.flow
+
+
+def run_labels(runs):
+    """f<f>_D<D in mm>mm_seed<seed>, with a suffix when two runs share it."""
+    labels = []
+    for run in runs:
+        base = f"f{run.info['f']:g}_D{run.info['D'] * 1e3:g}mm_seed{run.info['seed']:.0f}"
+        label, k = base, 2
+        while label in labels:
+            label, k = f"{base}_{k}", k + 1
+        labels.append(label)
+    return labels
+
+
+def group_by_key(runs):
+    groups = {}
+    for run in runs:
+        groups.setdefault(run.key, []).append(run)
+    return dict(sorted(groups.items()))
+
+
+def flow_groups(runs, level=CONFIDENCE):
+    """Rows per (f, D): f, D, n, Q mean, se, CI half width (kg/s), the
+    same in grains/s, and n_no_flow, the runs without a stationary flow,
+    which are left out of Q (as are runs without a finite Q)."""
+    rows = []
+    for (f, D), all_members in group_by_key(runs).items():
+        members = [r for r in all_members if np.isfinite(r.flow.q_mass)]
+        no_flow = sum(not r.flow.stationary for r in all_members)
+        if not members:
+            rows.append({"f": f, "D": D, "n": 0, "Q": np.nan, "Q_se": np.nan, "Q_ci": np.nan,
+                         "Qn": np.nan, "Qn_se": np.nan, "Qn_ci": np.nan, "n_no_flow": no_flow})
+            continue
+        dofs = [r.flow.blocks - 1 for r in members]
+        q = seed_mean_ci([r.flow.q_mass for r in members], [r.flow.q_mass_se for r in members], dofs, level)
+        n = seed_mean_ci([r.flow.q_grains for r in members], [r.flow.q_grains_se for r in members], dofs, level)
+        rows.append({"f": f, "D": D, "n": len(members), "Q": q[0], "Q_se": q[1], "Q_ci": q[2],
+                     "Qn": n[0], "Qn_se": n[1], "Qn_ci": n[2], "n_no_flow": no_flow})
+    return rows
+
+
+def flow_changes(runs, level=CONFIDENCE):
+    """Rows per (f, D) with f > 0: the relative change of Q from f = 0,
+    Q(f)/Q(0) - 1, paired by seed (the runs of one seed start from the same
+    packing, so their difference is freer of the packing's own noise than
+    the difference of the means). The mean over the seeds that have both
+    runs, its standard error and CI half width as in seed_mean_ci: from the
+    spread of the per-seed changes for n >= 2; for one seed from the two
+    runs' block standard errors, propagated, with the smaller of their
+    degrees of freedom."""
+    at_rest = {(r.key[1], r.info["seed"]): r for r in runs
+               if r.key[0] == 0.0 and np.isfinite(r.flow.q_mass) and r.flow.q_mass > 0}
+    rows = []
+    for (f, D), members in group_by_key(runs).items():
+        if f == 0.0:
+            continue
+        changes, ses, dofs = [], [], []
+        for run in members:
+            rest = at_rest.get((D, run.info["seed"]))
+            if rest is None or not np.isfinite(run.flow.q_mass):
+                continue
+            ratio = run.flow.q_mass / rest.flow.q_mass
+            changes.append(ratio - 1.0)
+            ses.append(ratio * np.hypot(run.flow.q_mass_se / run.flow.q_mass,
+                                        rest.flow.q_mass_se / rest.flow.q_mass))
+            dofs.append(min(run.flow.blocks, rest.flow.blocks) - 1)
+        if changes:
+            mean, se, half = seed_mean_ci(changes, ses, dofs, level)
+            rows.append({"f": f, "D": D, "n": len(changes), "change": mean, "change_se": se,
+                         "change_ci": half})
+    return rows
+
+
+def flow_fits(rows, d):
+    """Beverloo and exponential fits of Q(D) per f, with sigma = the
+    standard error over seeds; f values with fewer than two orifice sizes
+    (or a zero standard error) are skipped."""
+    fits = {}
+    for f in sorted({row["f"] for row in rows}):
+        chosen = [r for r in rows if r["f"] == f and r["Q"] > 0 and r["Q_se"] > 0]
+        if len({r["D"] for r in chosen}) < 2:
+            continue
+        D = np.array([r["D"] for r in chosen])
+        Q = np.array([r["Q"] for r in chosen])
+        sigma = np.array([r["Q_se"] for r in chosen])
+        try:
+            fits[f] = {"beverloo": fit_beverloo(D, Q, sigma, d), "exponential": fit_exponential(D, Q, sigma)}
+        except (RuntimeError, ValueError) as failure:     # curve_fit found no minimum
+            progress(f"f = {f:g} Hz: no fit ({failure})")
+    return fits

@@ -1,0 +1,171 @@
+"""Records of the rotating-bottom silo (Pongó, Börzsönyi and Hidalgo 2022):
+reading one run directory that inputs/silo3d_rotating/in.silo3d_rotating
+writes: its parameters (run.txt), discharge record (discharge.txt), the
+frames of dump.cg as coarse_grain Particles and of dump.contacts as
+coarse_grain Contacts, the time since the opening of dump steps, and the
+Run that holds one run's records (and, once analysed, its flow rate).
+
+The record format (files, columns, units, the deck's conventions):
+doc/silo3d_rotating_records.md. The flow rate is in analysis.silo3d_flow,
+the coarse-grained fields in analysis.silo3d_fields, the command line in
+analysis.silo3d_rotating.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from analysis import coarse_grain as cg
+from analysis.lammps_io import iter_dump, read_table
+
+if TYPE_CHECKING:                      # Run.flow's annotation only
+    from analysis.silo3d_flow import FlowRate
+
+RUN_KEYS = ("d", "rho", "mass", "Dc", "D", "f", "seed", "N", "dt", "t_open", "reinject")
+DISCHARGE_COLUMNS = ("step", "t", "n_out", "mass_out")
+# compute pair/gran/local pos id force: the 12 columns of one contact
+CONTACT_COLUMNS = ("x1", "y1", "z1", "x2", "y2", "z2", "id1", "id2", "periodic", "fx", "fy", "fz")
+# a grain's axis in dump.cg: the deck's rods write c_rod_axis[1-3]
+# (compute spherocylinder/axis); ox oy oz is the name other tools use
+ORIENTATION_COLUMN_SETS = (("c_rod_axis[1]", "c_rod_axis[2]", "c_rod_axis[3]"), ("ox", "oy", "oz"))
+
+
+# ---------------------------------------------------------------- records
+
+def read_run_info(run_dir, required=RUN_KEYS):
+    """run.txt: `key value` lines, '#' comments; numbers as floats, words
+    (`shape rod`) as strings; the keys of `required` (RUN_KEYS for the
+    analysis) must be there (an error names the file and the missing keys)."""
+    path = Path(run_dir) / "run.txt"
+    info = {}
+    for line in path.read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            key, value = line.split()[:2]
+            try:
+                info[key] = float(value)
+            except ValueError:
+                info[key] = value
+    missing = [key for key in required if key not in info]
+    if missing:
+        raise ValueError(f"{path}: missing keys {missing}")
+    return info
+
+
+def read_discharge(run_dir):
+    """discharge.txt as a dict of arrays; columns looked up by name."""
+    path = Path(run_dir) / "discharge.txt"
+    table = read_table(path)
+    missing = [name for name in DISCHARGE_COLUMNS if name not in table]
+    if missing:
+        raise ValueError(f"{path}: missing columns {missing}")
+    return table
+
+
+def frame_particles(columns):
+    """cg.Particles of a dump.cg frame; orientations (normalised) when the
+    frame has the axes (ORIENTATION_COLUMN_SETS, the first set present)."""
+    positions = np.column_stack([columns["x"], columns["y"], columns["z"]])
+    velocities = np.column_stack([columns["vx"], columns["vy"], columns["vz"]])
+    orientations = None
+    for names in ORIENTATION_COLUMN_SETS:
+        if all(name in columns for name in names):
+            axes = np.column_stack([columns[name] for name in names])
+            orientations = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+            break
+    return cg.Particles(positions, velocities, columns["mass"], orientations)
+
+
+def contact_columns(columns):
+    """Names the 12 columns of `compute pair/gran/local pos id force` in a
+    dump local frame (c_ID[1] ... c_ID[12], in that order): pos of the
+    first and second grain, their ids, the periodic flag, and the force on
+    the first grain (checked against LIGGGHTS in the tests)."""
+    names = list(columns)
+    if len(names) != len(CONTACT_COLUMNS):
+        raise ValueError(f"dump.contacts: expected the {len(CONTACT_COLUMNS)} columns of "
+                         f"'compute pair/gran/local pos id force' ({' '.join(CONTACT_COLUMNS)}), "
+                         f"got {len(names)}: {' '.join(names)}")
+    return {meaning: columns[name] for meaning, name in zip(CONTACT_COLUMNS, names)}
+
+
+def frame_contacts(columns):
+    """cg.Contacts of a dump.contacts frame: from grain 1 to grain 2, the
+    force on grain 1. A contact across a periodic boundary would have its
+    branch vector wrong (LIGGGHTS writes remapped positions): refused."""
+    named = contact_columns(columns)
+    if np.any(named["periodic"] != 0):
+        raise ValueError("dump.contacts: contacts across periodic boundaries are not supported")
+    starts = np.column_stack([named["x1"], named["y1"], named["z1"]])
+    ends = np.column_stack([named["x2"], named["y2"], named["z2"]])
+    forces = np.column_stack([named["fx"], named["fy"], named["fz"]])
+    return cg.Contacts(starts, ends, forces)
+
+
+def time_since_opening(steps, discharge, run):
+    """tau = t - t_open of dump steps, from the discharge record's first
+    (step, t) and the time step (the deck does not change dt after opening)."""
+    step0, time0 = discharge["step"][0], discharge["t"][0]
+    return time0 + (np.asarray(steps, dtype=float) - step0) * run["dt"] - run["t_open"]
+
+
+def once_each(steps):
+    """An iter_dump predicate that is true the first time each of `steps`
+    comes: LIGGGHTS may write a frame again at the set-up of the next run
+    of a deck's run loop."""
+    pending = set(int(s) for s in steps)
+
+    def wanted(step):
+        if step in pending:
+            pending.remove(step)
+            return True
+        return False
+    return wanted
+
+
+def frames_with_contacts(run, steps):
+    """(step, cg.Particles, cg.Contacts or None) of the frames at `steps`,
+    reading dump.cg and, when present, dump.contacts side by side."""
+    contacts_path = run.path / "dump.contacts"
+    contact_frames = iter_dump(contacts_path, once_each(steps)) if contacts_path.exists() else None
+    for step, columns in iter_dump(run.path / "dump.cg", once_each(steps)):
+        contacts = None
+        if contact_frames is not None:
+            contact_step, contact_columns = next(contact_frames, (None, None))
+            if contact_step != step:
+                raise ValueError(f"{contacts_path}: no frame of step {step} in step with dump.cg")
+            contacts = frame_contacts(contact_columns)
+        yield step, frame_particles(columns), contacts
+
+
+# ---------------------------------------------------------------- runs
+
+@dataclass
+class Run:
+    """A run directory with its run.txt, discharge record and flow rate."""
+    path: Path
+    info: dict
+    discharge: dict
+    tau: np.ndarray
+    flow: FlowRate = None
+    label: str = ""
+
+    @property
+    def finished(self):
+        """The deck writes `finished <t>` to run.txt as its last act."""
+        return "finished" in self.info
+
+    @property
+    def key(self):
+        """(f, D) rounded so that equal deck values group together."""
+        return (round(self.info["f"], 9), round(self.info["D"], 9))
+
+
+def load_run(run_dir):
+    info = read_run_info(run_dir)
+    discharge = read_discharge(run_dir)
+    return Run(Path(run_dir), info, discharge, discharge["t"] - info["t_open"])

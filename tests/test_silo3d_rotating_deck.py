@@ -18,13 +18,13 @@ dt = t_c/40, 0.4 s of settling and 0.6 s of discharge).
 
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from analysis.lammps_io import read_dump, read_table
 from analysis.silo3d_flow import stationary_flow_rate
+from analysis.silo3d_records import read_run_info
 from conftest import ROOT, LiggghtsError, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -69,18 +69,6 @@ def solid_rod_mass(length, aspect):
     return 620.0 * (math.pi * d ** 3 / 6 + math.pi * d ** 2 / 4 * (length - d))
 
 
-def run_parameters(path):
-    values = {}
-    for line in Path(path).read_text().splitlines():
-        if line.strip() and not line.startswith("#"):
-            key, value = line.split()
-            try:
-                values[key] = float(value)
-            except ValueError:
-                values[key] = value
-    return values
-
-
 def flow_rate(record, t_open):
     """The analysis' stationary flow rate (analysis.silo3d_flow) after
     the start-up, with its standard error from block averages."""
@@ -99,7 +87,7 @@ def serial_run(tmp_path_factory, liggghts_binary):
 
 def test_quick_deck_discharges_with_consistent_records(serial_run):
     workdir, output = serial_run
-    params = run_parameters(workdir / "run.txt")
+    params = read_run_info(workdir, required=())
     assert params["N"] == 900 and params["D"] == 0.05 and params["f"] == 0.0
     assert params["mass"] == pytest.approx(MASS, rel=1e-12)
     assert params["reinject"] == 0
@@ -128,7 +116,7 @@ def test_two_ranks_give_the_same_flow_rate(serial_run, tmp_path, run):
     assert "by 1 MPI processor grid" in output
     serial = read_table(workdir / "discharge.txt")
     parallel = read_table(tmp_path / "discharge.txt")
-    t_open = run_parameters(tmp_path / "run.txt")["t_open"]
+    t_open = read_run_info(tmp_path, required=())["t_open"]
     q1, s1 = flow_rate(serial, t_open)
     q2, s2 = flow_rate(parallel, t_open)
     print(f"np 1: Q = {q1:.4f} +- {s1:.4f}, np 2: Q = {q2:.4f} +- {s2:.4f} kg/s")
@@ -163,7 +151,7 @@ def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
     output = run(quick_deck(read_packing=1, packing="../settle/packing.restart", discharge_time=0.3),
                  subdir="read")
     assert "Resetting global state of Fix bottom Style wall/gran/rotating" in output
-    params = run_parameters(tmp_path / "read" / "run.txt")
+    params = read_run_info(tmp_path / "read", required=())
     record = read_table(tmp_path / "read" / "discharge.txt")
     assert params["t_open"] == 0.0
     assert record["t"][0] == pytest.approx(0.01, abs=1e-3)
@@ -195,7 +183,7 @@ def test_the_quick_deck_discharges_rods_through_the_turning_bottom(run, tmp_path
     length, aspect = 0.020, 3.3
     rod_mass = solid_rod_mass(length, aspect)
     output = run(quick_deck(shape="rod", aspect=aspect, f=0.32, reinject=1, discharge_time=0.3))
-    params = run_parameters(tmp_path / "run.txt")
+    params = read_run_info(tmp_path, required=())
     assert params["shape"] == "rod" and params["N"] == 300
     assert params["aspect"] == aspect and params["L"] == length
     assert params["mass"] == pytest.approx(rod_mass, rel=1e-12)
@@ -218,7 +206,7 @@ def test_full_size_rods_of_aspect_4_are_22500_as_in_the_paper(run, tmp_path):
     column holds fewer). Settling and discharge cut to a few steps."""
     output = run(deck(shape="rod", aspect=4.0, dt_fraction=40, settle_time=0.0001,
                       discharge_time=0.0001))
-    params = run_parameters(tmp_path / "run.txt")
+    params = read_run_info(tmp_path, required=())
     assert params["N"] == 22500 and params["aspect"] == 4.0
     assert params["Dc"] == 0.19 and params["D"] == 0.06
     assert set(discharge_atoms(output)) == {"22500"}
@@ -233,9 +221,9 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
     clump left, and mass_out is n_out rod masses."""
     rod_mass = solid_rod_mass(0.020, 3.3)
     rods = run(deck(quick=1, shape="rod", settle_time=0.0001, discharge_time=0.0001), subdir="rods")
-    rod_dt = run_parameters(tmp_path / "rods" / "run.txt")["dt"]
+    rod_dt = read_run_info(tmp_path / "rods", required=())["dt"]
     output = run(quick_deck(shape="clump", f=0.32, settle_time=0.3, discharge_time=0.15))
-    params = run_parameters(tmp_path / "run.txt")
+    params = read_run_info(tmp_path, required=())
     assert params["shape"] == "clump" and params["N"] == 300
     assert params["mass"] == pytest.approx(rod_mass, rel=1e-12)
     assert params["dt"] == pytest.approx(rod_dt / 2, rel=1e-12) and "nan" not in rods.lower()
@@ -286,7 +274,7 @@ def test_clumps_start_from_the_poses_of_a_rod_packing(run, tmp_path):
     output = run(quick_deck(shape="clump", read_poses=1, poses=tmp_path / "rods" / "poses.dump",
                             settle_time=0.01, discharge_time=0.0001))
     assert "inserted 300 particle templates" in output
-    assert run_parameters(tmp_path / "run.txt")["N"] == 300
+    assert read_run_info(tmp_path, required=())["N"] == 300
     assert discharge_atoms(output)[-1] == "3000" and "nan" not in output.lower()
 
 

@@ -26,8 +26,15 @@ def campaign(run_dir, **environment):
 
 
 def test_peer_of_places_a_clump_on_every_rod_of_the_rods_packing(tmp_path):
+    # FS="": only the packing (the defaults are for an unset FS)
+    settled = campaign(tmp_path / "rods", SHAPE="rod", FS="", DECK_VARS="quick 1 settle_time 0.5")
+    assert settled.returncode == 0, settled.stdout + settled.stderr
+    assert "packings made" in settled.stdout
+    assert (tmp_path / "rods" / "packing_s32452843" / "finished").exists()
+    assert not list((tmp_path / "rods").glob("D*"))
     rods = campaign(tmp_path / "rods", SHAPE="rod", DECK_VARS="quick 1 settle_time 0.5")
     assert rods.returncode == 0, rods.stdout + rods.stderr
+    assert "settling" not in rods.stdout          # the packing above, reused
     clumps = campaign(tmp_path / "clumps", SHAPE="clump", PEER_OF=str(tmp_path / "rods"), RELAX="0.01",
                       DECK_VARS="quick 1")
     assert clumps.returncode == 0, clumps.stdout + clumps.stderr

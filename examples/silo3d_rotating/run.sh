@@ -15,6 +15,7 @@
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
 #   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 0.96 1.28"]
+#            (DS="" or FS="": only the packings are made)
 #   SEEDS    primes > 10000, one packing each ["32452843"]
 #   DT_FRACTION  dt = t_c/DT_FRACTION        [40]
 #   DISCHARGE    simulated seconds after the opening [2.0]
@@ -37,13 +38,15 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
-DS="${DS:-0.042 0.06}"
-FS="${FS:-0 0.16 0.32 0.64 0.96 1.28}"
+# (DS, FS and FIELDS set but empty mean none, not the defaults: FS="" only
+# settles the packings)
+DS="${DS-0.042 0.06}"
+FS="${FS-0 0.16 0.32 0.64 0.96 1.28}"
 SEEDS="${SEEDS:-32452843}"
 DT_FRACTION="${DT_FRACTION:-40}"
 DISCHARGE="${DISCHARGE:-2.0}"
 TRANSIENT="${TRANSIENT:-0.5}"
-FIELDS="${FIELDS:-0.06 0 0.06 0.32 0.06 1.28}"
+FIELDS="${FIELDS-0.06 0 0.06 0.32 0.06 1.28}"
 JOBS="${JOBS:-1}"
 SHAPE="${SHAPE:-sphere}"
 ASPECT="${ASPECT:-3.3}"
@@ -142,5 +145,6 @@ for seed in $SEEDS; do
   done
 done
 wait
+if [ -z "$DS" ] || [ -z "$FS" ]; then log "packings made (no D or f given: no runs)"; exit 0; fi
 log "all runs done; analysing"
 analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT"

@@ -24,3 +24,12 @@ for s in 32452843 49979687; do
     -var packing "$ROOT/runs/peer_clump/packing_s$s/packing.restart" -var reinject 0 -var D 0.05 -var f 0.32 \
     -var seed $s -var discharge_time 1.0)
 done
+
+# The full-size pair (2026-11-25, binary and inputs of commit 5bb37c6):
+# the rods' first packing (settled as in ../silo3d_rods/commands.sh, kept
+# in ../silo3d_rods/packings/), clumps placed on it and relaxed 0.1 s, then
+# f = 0 and 0.32 Hz at the rods' dt. Stopped after 0.29 s of the f = 0
+# discharge (full_clump_D0.06_f0_s32452843_partial/: run.txt, discharge.txt,
+# the loop times of the relaxation and of each chunk).
+SHAPE=clump PEER_OF=runs/rods RELAX=0.1 ASPECT=3.3 DS="0.06" FS="0 0.32" SEEDS="32452843" DT_FRACTION=40 \
+  DISCHARGE=1.5 TRANSIENT=0.5 JOBS=1 DECK_VARS="dt 3.08993237597775e-06" bash examples/silo3d_rotating/run.sh runs/peer_full

@@ -19,10 +19,25 @@ interruption, this module
     python3 -m analysis.checkpoint clean RUN_DIR    # removes the checkpoint files
 
 `resume` prints nothing when there is no checkpoint to go on from.
+
+A machine whose files do not outlive the session (ours: each session
+starts on a new one) keeps an unfinished run in the repository instead:
+
+    python3 -m analysis.checkpoint keep RUN_DIR KEPT [--dump-cylinder R Z]
+    python3 -m analysis.checkpoint restore KEPT RUN_DIR
+
+`keep` writes the last checkpoint (xz), its line of checkpoints.txt,
+run.txt, the row records up to it and dump.cg's frames before it (xz; with
+--dump-cylinder only the grains with r < R and z < Z about the z axis, the
+orifice region, which keeps the orifice averages but not the maps);
+dump.contacts is not kept. `restore` unpacks KEPT into a new RUN_DIR, from
+which `resume` (and so run.sh) goes on.
 """
 
 import argparse
+import lzma
 import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -58,27 +73,56 @@ def cut_rows(path, step):
     if not path.exists():
         return
     with open(path) as handle:
-        lines = handle.readlines()
-    # (a line cut short by the interruption has no newline: dropped)
-    kept = [line for line in lines if line.endswith("\n") and
+        _replace(path, rows_up_to(handle.readlines(), step))
+
+
+def rows_up_to(lines, step):
+    """The lines of a `# header` + "step ..." table up to `step` (a line cut
+    short by an interruption has no newline: dropped)."""
+    return [line for line in lines if line.endswith("\n") and
             (line.startswith("#") or not line.split() or int(line.split()[0]) <= step)]
-    _replace(path, kept)
 
 
 def cut_frames(path, step):
     """Drops the frames of a text dump from `step` on."""
     if not path.exists():
         return
-    kept, keep = [], True
     with open(path) as handle:
-        lines = handle.readlines()
+        _replace(path, frames_before(handle.readlines(), step))
+
+
+def frames_before(lines, step):
+    """The lines of the frames of a text dump before `step`."""
+    kept, keep = [], True
     for number, line in enumerate(lines):
         if line.startswith("ITEM: TIMESTEP"):
             keep = number + 1 < len(lines) and lines[number + 1].strip().isdigit() \
                 and int(lines[number + 1]) < step
         if keep:
             kept.append(line)
-    _replace(path, kept)
+    return kept
+
+
+def frames_in_cylinder(lines, radius, z_max):
+    """The frames of a `dump custom` with x y z columns (9 header lines per
+    frame), each with only the grains at r < radius and z < z_max (r about
+    the z axis); a frame cut short is dropped."""
+    kept, i = [], 0
+    while i + 9 <= len(lines):
+        head, n = lines[i:i + 9], int(lines[i + 3])
+        rows = lines[i + 9:i + 9 + n]
+        if len(rows) < n or not rows[-1].endswith("\n"):
+            break
+        columns = head[8].split()[2:]
+        ix, iy, iz = (columns.index(name) for name in ("x", "y", "z"))
+        inside = []
+        for row in rows:
+            words = row.split()
+            if float(words[iz]) < z_max and float(words[ix]) ** 2 + float(words[iy]) ** 2 < radius ** 2:
+                inside.append(row)
+        kept += head[:3] + [f"{len(inside)}\n"] + head[4:] + inside
+        i += 9 + n
+    return kept
 
 
 def resume_variables(run_dir):
@@ -107,13 +151,74 @@ def remove_checkpoints(run_dir):
         path.unlink()
 
 
+def keep(run_dir, kept, dump_cylinder=None):
+    """Writes into `kept` what the run needs to go on elsewhere from its last
+    checkpoint (the module's docstring); returns the checkpoint's step."""
+    found = last_checkpoint(run_dir)
+    if found is None:
+        raise ValueError(f"{run_dir}: no checkpoint to keep")
+    step, checkpoint = found
+    run_dir, kept = Path(run_dir), Path(kept)
+    kept.mkdir(parents=True, exist_ok=True)
+    (kept / CHECKPOINTS).write_text(f"{step} {checkpoint.name}\n")
+    shutil.copyfile(run_dir / "run.txt", kept / "run.txt")
+    for name in ROW_RECORDS:
+        if (run_dir / name).exists():
+            with open(run_dir / name) as handle:
+                (kept / name).write_text("".join(rows_up_to(handle.readlines(), step)))
+    if (run_dir / "dump.cg").exists():
+        with open(run_dir / "dump.cg") as handle:
+            frames = frames_before(handle.readlines(), step)
+        if dump_cylinder:
+            frames = frames_in_cylinder(frames, *dump_cylinder)
+        with lzma.open(kept / "dump.cg.xz", "wt") as packed:
+            packed.writelines(frames)
+    with open(checkpoint, "rb") as source, lzma.open(kept / (checkpoint.name + ".xz"), "wb") as packed:
+        shutil.copyfileobj(source, packed)
+    return step
+
+
+def restore(kept, run_dir):
+    """Unpacks a kept run into a new run directory."""
+    kept, run_dir = Path(kept), Path(run_dir)
+    if (run_dir / "run.txt").exists():
+        raise ValueError(f"{run_dir} holds a run already: restore into a new directory")
+    run_dir.mkdir(parents=True, exist_ok=True)
+    for path in kept.iterdir():
+        if path.suffix == ".xz":
+            with lzma.open(path, "rb") as packed, open(run_dir / path.stem, "wb") as target:
+                shutil.copyfileobj(packed, target)
+        elif path.is_file():
+            shutil.copyfile(path, run_dir / path.name)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("action", choices=("resume", "clean"))
-    parser.add_argument("run_dir")
+    actions = parser.add_subparsers(dest="action", required=True)
+    for action in ("resume", "clean"):
+        actions.add_parser(action).add_argument("run_dir")
+    keeping = actions.add_parser("keep", help="the last checkpoint and the records up to it, into KEPT")
+    keeping.add_argument("run_dir")
+    keeping.add_argument("kept")
+    keeping.add_argument("--dump-cylinder", nargs=2, type=float, metavar=("R", "Z"),
+                         help="keep only the grains of dump.cg with r < R and z < Z (m)")
+    restoring = actions.add_parser("restore", help="unpack KEPT into a new RUN_DIR")
+    restoring.add_argument("kept")
+    restoring.add_argument("run_dir")
     args = parser.parse_args(argv)
     if args.action == "clean":
         remove_checkpoints(args.run_dir)
+        return 0
+    if args.action in ("keep", "restore"):
+        try:
+            if args.action == "keep":
+                step = keep(args.run_dir, args.kept, args.dump_cylinder)
+                print(f"checkpoint: kept step {step} of {args.run_dir} in {args.kept}")
+            else:
+                restore(args.kept, args.run_dir)
+        except ValueError as error:
+            print(f"checkpoint: {error}", file=sys.stderr)
+            return 2
         return 0
     variables = resume_variables(args.run_dir)
     if variables:

@@ -127,3 +127,52 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path):
     reinjected = read_table(run_dir / "reinject.txt")
     assert np.all(np.diff(reinjected["step"]) > 0) and np.all(np.diff(reinjected["n_out"]) > 0)
     assert (run_dir / "screen.txt").read_text().count("silo3d_rotating: done at") == 1
+
+
+def test_a_kept_run_restored_elsewhere_resumes_from_the_same_checkpoint(tmp_path):
+    """keep + restore on hand-made files: the restored directory gives the
+    resume variables of the original (but its own checkpoint file), the
+    checkpoint's bytes, the records up to it, and dump.cg's frames before it
+    with only the grains inside the cylinder asked for."""
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "run.txt").write_text("# run\ndt 0.001\nt_open 0.4\nN 3\nstep_open 400\n")
+    (run / "checkpoints.txt").write_text("500 checkpoint.500.restart\n600 checkpoint.600.restart\n")
+    payload = bytes(range(256)) * 40
+    (run / "checkpoint.500.restart").write_bytes(b"older")
+    (run / "checkpoint.600.restart").write_bytes(payload)
+    (run / "discharge.txt").write_text("# step t n_out mass_out\n" +
+                                       "".join(f"{s} {s / 1000} {s - 400} 0.1\n" for s in range(400, 750, 50)))
+    (run / "reinject.txt").write_text("# step t n_out mass_out avalanche\n450 0.45 1 0.1 1\n650 0.65 2 0.2 2\n")
+    # three grains: inside (r 0.01, z 0.01), too far out (r 0.1), too high (z 0.2)
+    grains = "1 1 0.01 0 0.01\n2 1 0.1 0 0.01\n3 1 0 0.01 0.2\n"
+    frames = "".join(f"ITEM: TIMESTEP\n{s}\nITEM: NUMBER OF ATOMS\n3\nITEM: BOX BOUNDS ff ff ff\n"
+                     f"-1 1\n-1 1\n0 1\nITEM: ATOMS id type x y z\n{grains}" for s in (450, 550, 650))
+    (run / "dump.cg").write_text(frames)
+
+    kept = tmp_path / "kept"
+    assert checkpoint.main(["keep", str(run), str(kept), "--dump-cylinder", "0.05", "0.05"]) == 0
+    assert sorted(path.name for path in kept.iterdir()) == [
+        "checkpoint.600.restart.xz", "checkpoints.txt", "discharge.txt", "dump.cg.xz", "reinject.txt", "run.txt"]
+    restored = tmp_path / "restored"
+    assert checkpoint.main(["restore", str(kept), str(restored)]) == 0
+    assert (restored / "checkpoint.600.restart").read_bytes() == payload
+    assert list(read_table(restored / "discharge.txt")["step"]) == [400, 450, 500, 550, 600]
+    assert list(read_table(restored / "reinject.txt")["step"]) == [450]
+    dumped = read_dump(restored / "dump.cg")
+    assert [step for step, _ in dumped] == [450, 550]
+    assert all(list(frame["id"]) == [1] for _, frame in dumped)
+
+    expected = checkpoint.resume_variables(run)
+    got = checkpoint.resume_variables(restored)
+    assert got.pop("checkpoint") == str((restored / "checkpoint.600.restart").resolve())
+    expected.pop("checkpoint")
+    assert got == expected and got["t_resume"] == repr(0.4 + 200 * 0.001)
+    # a second restore into the same directory would mix two runs: refused
+    assert checkpoint.main(["restore", str(kept), str(restored)]) == 2
+
+
+def test_keep_without_a_checkpoint_is_refused(tmp_path, capsys):
+    (tmp_path / "run.txt").write_text("dt 0.001\n")
+    assert checkpoint.main(["keep", str(tmp_path), str(tmp_path / "kept")]) == 2
+    assert "no checkpoint to keep" in capsys.readouterr().err

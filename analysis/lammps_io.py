@@ -63,10 +63,11 @@ def dump_steps(path):
     return np.array(steps, dtype=np.int64)
 
 
-def read_table(path):
+def read_table(path, required=()):
     """A whitespace-separated table whose last `#` comment line before the
     data names the columns; returns a dict name -> numpy array. A path
-    ending in .xz is read through lzma (the compressed records of doc/data)."""
+    ending in .xz is read through lzma (the compressed records of doc/data).
+    Columns of `required` that the table lacks are an error naming the file."""
     names = None
     rows = []
     opener = lzma.open if str(path).endswith(".xz") else open
@@ -81,6 +82,9 @@ def read_table(path):
             rows.append([float(value) for value in stripped.split()])
     if names is None:
         raise ValueError(f"{path}: no '#' header line naming the columns")
+    missing = [name for name in required if name not in names]
+    if missing:
+        raise ValueError(f"{path}: missing columns {missing}")
     data = np.array(rows, dtype=float).reshape(len(rows), len(names))
     return {name: data[:, i] for i, name in enumerate(names)}
 

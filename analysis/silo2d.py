@@ -335,11 +335,7 @@ def read_records(record_dir):
         path = record_dir / name
         if not path.exists() and (record_dir / (name + ".xz")).exists():
             path = record_dir / (name + ".xz")     # an archive (analysis.silo2d_archive)
-        table = read_table(path)
-        missing = [c for c in columns if c not in table]
-        if missing:
-            raise ValueError(f"{record_dir / name}: missing columns {missing}")
-        tables[name.split(".")[0]] = table
+        tables[name.split(".")[0]] = read_table(path, required=columns)
     return tables
 
 
@@ -348,11 +344,7 @@ def read_feet(record_dir):
     path = Path(record_dir) / "feet.txt"
     if not path.exists():
         return None
-    table = read_table(path)
-    missing = [c for c in FEET_COLUMNS if c not in table]
-    if missing:
-        raise ValueError(f"{path}: missing columns {missing}")
-    return table
+    return read_table(path, required=FEET_COLUMNS)
 
 
 def require_feet(feet):

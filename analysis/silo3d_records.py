@@ -58,12 +58,7 @@ def read_run_info(run_dir, required=RUN_KEYS):
 
 def read_discharge(run_dir):
     """discharge.txt as a dict of arrays; columns looked up by name."""
-    path = Path(run_dir) / "discharge.txt"
-    table = read_table(path)
-    missing = [name for name in DISCHARGE_COLUMNS if name not in table]
-    if missing:
-        raise ValueError(f"{path}: missing columns {missing}")
-    return table
+    return read_table(Path(run_dir) / "discharge.txt", required=DISCHARGE_COLUMNS)
 
 
 def frame_particles(columns):

@@ -90,6 +90,10 @@ class FlowRate:
     gaps: np.ndarray
     clogged_at_end: bool
     stationary: bool = True
+    # the mass rate's block error again with B // 2 blocks twice as long: well
+    # above q_mass_se, the blocks are shorter than the flow's correlation time
+    # and q_mass_se is too small (doc/silo3d_rotating_records.md)
+    q_mass_se_2x: float = np.nan
 
     @property
     def removed(self):
@@ -129,10 +133,19 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
     rates = {}
     for name, cumulative in (("mass", mass_out), ("grains", n_out)):
         cumulative = np.asarray(cumulative, dtype=float)[inside]
-        per_block = block_rates(tau_eff, cumulative, duration, blocks)
         rates[name] = ((cumulative[-1] - cumulative[0]) / duration,
-                       per_block.std(ddof=1) / np.sqrt(blocks))
-    return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged)
+                       block_error(tau_eff, cumulative, duration, blocks))
+    mass = np.asarray(mass_out, dtype=float)[inside]
+    se_2x = block_error(tau_eff, mass, duration, blocks // 2) if blocks >= 4 else np.nan
+    return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged,
+                    q_mass_se_2x=se_2x)
+
+
+def block_error(tau_eff, cumulative, duration, blocks):
+    """Standard error of the mean rate from `blocks` equal blocks:
+    std(Q_b, ddof=1)/sqrt(B)."""
+    per_block = block_rates(tau_eff, cumulative, duration, blocks)
+    return per_block.std(ddof=1) / np.sqrt(blocks)
 
 
 def smoothed_rate(tau, cumulative, window):

@@ -220,6 +220,23 @@ def test_block_error_of_a_poisson_flow():
     assert flow.q_grains_se == pytest.approx(0.5, rel=0.35)
 
 
+def test_block_error_with_blocks_twice_as_long_by_hand():
+    # 100 grains/s for 1 s, then 300 grains/s for 1 s (a flow that changes
+    # on a time longer than the blocks). 10 blocks of 0.2 s: rates 5 x 100
+    # and 5 x 300, sd = 100 sqrt(10/9), se = 100/3 grains/s. 5 blocks of
+    # 0.4 s: 100, 100, 200, 300, 300, sd = 100, se = 100/sqrt(5): larger,
+    # which is what the second error is there to show. Grains of 1 g.
+    exits = np.concatenate([regular_exits(100.0, 1.0), 1.0 + regular_exits(300.0, 1.0)])
+    tau, n_out, mass_out = record(exits, 2.0)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=10)
+    assert flow.q_grains == pytest.approx(200.0, rel=1e-12)
+    assert flow.q_grains_se == pytest.approx(100.0 / 3.0, rel=1e-9)
+    assert flow.q_mass_se == pytest.approx(1e-3 * 100.0 / 3.0, rel=1e-9)
+    assert flow.q_mass_se_2x == pytest.approx(1e-3 * 100.0 / math.sqrt(5.0), rel=1e-9)
+    # fewer than 4 blocks leave no two for the longer ones
+    assert math.isnan(silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=3).q_mass_se_2x)
+
+
 def test_seed_mean_ci_student_t_by_hand():
     # 1, 2, 3: mean 2, sample sd 1, se 1/sqrt 3, t(0.975, 2 dof) = 4.302652729911275
     mean, se, half = silo3d_flow.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
@@ -395,6 +412,9 @@ def test_cli_writes_tables_and_plots(tmp_path):
     groups = read_table(out / "flow_rate.txt")
     assert groups["n"].tolist() == [2, 2, 2] and groups["n_no_flow"].tolist() == [0, 0, 0]
     assert per_run["stationary"].tolist() == [1] * 6
+    # the check of the block length is written for every run (its value: the
+    # test of blocks twice as long, by hand, above)
+    assert np.all(np.isfinite(per_run["Q_kg_s_se_2x"]))
     # by hand from the rates above, two seeds per D; t(0.975, 1 dof) = 12.706204736174707
     for k, rate in enumerate((20.0, 40.0, 80.0)):
         seeds = np.array([rate, 9 * rate / (11 - removed[rate])]) * GRAIN_MASS

@@ -7,9 +7,10 @@ examples/silo3d_rotating/run.sh).
   after it would leave it) and resumed: the records it ends with are those
   of the uninterrupted run, every count and mass to the last digit and the
   times to round-off.
-- The driver: run.sh killed once its run has a checkpoint and started
-  again finishes the run from there, with records that have no gap and no
-  repeated row or frame, and removes the checkpoint files.
+- The driver: run.sh killed once its run has a checkpoint (or its
+  LIGGGHTS stopped by SIGTERM, which LIGGGHTS ends with status 0) and
+  started again finishes the run from there, with records that have no gap
+  and no repeated row or frame, and removes the checkpoint files.
 - The cutting and the resume variables on hand-made files.
 """
 
@@ -18,6 +19,7 @@ import shutil
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -93,22 +95,56 @@ def test_the_resume_variables_come_from_the_last_checkpoint_on_disk_and_run_txt(
     assert checkpoint.resume_variables(tmp_path) is None
 
 
-def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path):
+def signal_processes(session, name, signum):
+    """Sends signum to the processes of a session whose name is `name`
+    (from /proc/<pid>/stat); returns how many."""
+    hit = 0
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+        except OSError:
+            continue
+        process_name = stat[stat.index("(") + 1:stat.rindex(")")]
+        process_session = int(stat[stat.rindex(")") + 2:].split()[3])   # after: state ppid pgrp session
+        if process_name == name and process_session == session:
+            os.kill(int(entry.name), signum)
+            hit += 1
+    return hit
+
+
+@pytest.mark.parametrize("stop", ["kill run.sh", "SIGTERM to LIGGGHTS"])
+def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, stop):
+    # "kill run.sh": SIGKILL to the whole campaign (a session's end);
+    # "SIGTERM to LIGGGHTS": LIGGGHTS alone gets it, writes its forced
+    # restart and ends with status 0, run.sh goes on and must not take the
+    # run for finished (nor delete its checkpoints)
     environment = {**os.environ, "SILOKIT_LIGGGHTS": str(LIGGGHTS), "DS": "0.05", "FS": "0.32",
                    "SEEDS": "32452843", "DISCHARGE": "0.5", "TRANSIENT": "0.1", "CHECKPOINT": "0.1",
                    "FIELDS": "0.05 0.32", "DECK_VARS": "quick 1"}
     command = ["bash", str(ROOT / "examples" / "silo3d_rotating" / "run.sh"), str(tmp_path / "runs")]
     run_dir = tmp_path / "runs" / "D0.05_f0.32_s32452843"
     listing = run_dir / "checkpoints.txt"
-    first = subprocess.Popen(command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                             start_new_session=True)
+    first = subprocess.Popen(command, env=environment, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                             text=True, start_new_session=True)
     deadline = time.time() + 300
     while not (listing.exists() and listing.read_text().strip()) and time.time() < deadline:
         assert first.poll() is None, "run.sh ended before its first checkpoint"
         time.sleep(0.2)
     assert listing.exists(), "no checkpoint within 300 s"
-    os.killpg(first.pid, signal.SIGKILL)
-    first.wait()
+    if stop == "kill run.sh":
+        os.killpg(first.pid, signal.SIGKILL)
+        first.wait()
+    else:
+        # the campaign's session holds run.sh, its subshells and LIGGGHTS,
+        # whose process name is the binary's
+        assert signal_processes(first.pid, LIGGGHTS.name, signal.SIGTERM) == 1
+        first.wait(timeout=300)
+        assert list(run_dir.glob("restart_forced_liggghts_*.data")), "LIGGGHTS did not get the SIGTERM"
+        assert "stopped before the end of its discharge" in first.stdout.read()
+        assert list(run_dir.glob("checkpoint.*.restart"))
+        assert "finished" not in read_run_info(run_dir)
     assert not (run_dir / "finished").exists()
 
     second = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)

@@ -97,6 +97,8 @@ settle() {   # one packing per seed
     (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
         -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
   fi
+  # (a settling stopped by SIGINT/SIGTERM ends with status 0 but no packing)
+  [ -f "$dir/packing.restart" ] || { log "seed $seed: stopped before its packing was written; the same command settles it again"; return 1; }
   touch "$dir/finished"
 }
 
@@ -130,6 +132,12 @@ discharge() {  # one (D, f, seed) run
       -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
       $resume >> screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
+  # LIGGGHTS ends a run it got SIGINT or SIGTERM for with exit status 0
+  # (doc/liggghts_quirks.md): only the deck's `finished` line in run.txt says
+  # that the discharge reached its end
+  grep -q '^finished ' "$dir/run.txt" || {
+    log "D $D f $f seed $seed: stopped before the end of its discharge (SIGINT/SIGTERM?); the same command resumes it"
+    return 1; }
   touch "$dir/finished"
   analysis analysis.checkpoint clean "$dir"
   log "D $D f $f seed $seed: $(grep -a 'done at' "$dir/screen.txt" | sed 's/silo3d_rotating: //') ($(( $(date +%s) - start )) s)"

@@ -67,9 +67,13 @@ SHAPE=rod ASPECT=3.3 DS="0.054" FS="0 0.16" SEEDS="15485863" DT_FRACTION=40 DISC
   FIELDS="0.054 0 0.054 0.16" JOBS=1 bash examples/silo3d_rotating/run.sh runs/rods_s2
 reduce runs/rods_s2/D0.054_f0_s15485863/dump.cg /tmp/dump.cg.reduced && \
   xz -9 -c /tmp/dump.cg.reduced > doc/data/silo3d_rods/D0.054_f0_s15485863/dump.cg.xz
-# the table of doc/silo3d_rotating.md ("A second orifice"): the f = 0 runs
+# the table of doc/silo3d_rotating.md ("Orifices of 45–80 mm"): the f = 0 runs
 # of both orifices, from copies with dump.cg decompressed from dump.cg.xz:
 #   /usr/bin/python3 -m analysis.silo3d_rotating COPIES/D0.054_f0_s15485863 COPIES/D0.06_f0_s* --out an --transient 0.5
 # The long runs (4 s, both orifices, same packing; resumable):
 SHAPE=rod ASPECT=3.3 DS="0.054 0.06" FS="0" SEEDS="15485863" DT_FRACTION=40 DISCHARGE=4.0 TRANSIENT=1.0 \
   FIELDS="0.054 0 0.06 0" JOBS=2 CHECKPOINT=0.25 bash examples/silo3d_rotating/run.sh runs/long
+
+# Orifices of 45, 50 and 80 mm (2026-11-25, frozen binary of 5bb37c6),
+# records in ../silo3d_rods_orifices/ (its README has the command). The
+# 45 mm run clogged at 0.31 s and was stopped by hand at 0.535 s.

@@ -130,13 +130,12 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
     if duration <= 0 or duration < min_flowing_fraction * (end - start):
         return FlowRate(np.nan, np.nan, np.nan, np.nan, blocks, start, end, max(duration, 0.0), gaps,
                         clogged, stationary=False)
-    rates = {}
-    for name, cumulative in (("mass", mass_out), ("grains", n_out)):
-        cumulative = np.asarray(cumulative, dtype=float)[inside]
-        rates[name] = ((cumulative[-1] - cumulative[0]) / duration,
-                       block_error(tau_eff, cumulative, duration, blocks))
-    mass = np.asarray(mass_out, dtype=float)[inside]
-    se_2x = block_error(tau_eff, mass, duration, blocks // 2) if blocks >= 4 else np.nan
+    inside_window = {name: np.asarray(cumulative, dtype=float)[inside]
+                     for name, cumulative in (("mass", mass_out), ("grains", n_out))}
+    rates = {name: ((cumulative[-1] - cumulative[0]) / duration,
+                    block_error(tau_eff, cumulative, duration, blocks))
+             for name, cumulative in inside_window.items()}
+    se_2x = block_error(tau_eff, inside_window["mass"], duration, blocks // 2) if blocks >= 4 else np.nan
     return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged,
                     q_mass_se_2x=se_2x)
 

@@ -17,6 +17,7 @@ interruption, this module
 
     python3 -m analysis.checkpoint resume RUN_DIR   # cuts, prints "-var name value ..."
     python3 -m analysis.checkpoint clean RUN_DIR    # removes the checkpoint files
+                                                    # (and LIGGGHTS' forced restart)
 
 `resume` prints nothing when there is no checkpoint to go on from.
 
@@ -147,8 +148,12 @@ def resume_variables(run_dir):
 
 
 def remove_checkpoints(run_dir):
-    for path in Path(run_dir).glob("checkpoint.*.restart"):
-        path.unlink()
+    """Removes the checkpoints of a finished run, and the restart LIGGGHTS
+    writes by itself when a signal stops it (restart_forced_liggghts_<step>
+    .data, 8 MB for 10 000 rods), which a resumed run leaves behind."""
+    for pattern in ("checkpoint.*.restart", "restart_forced_liggghts_*.data"):
+        for path in Path(run_dir).glob(pattern):
+            path.unlink()
 
 
 def keep(run_dir, kept, dump_cylinder=None):

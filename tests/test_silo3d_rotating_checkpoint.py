@@ -151,6 +151,7 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     assert second.returncode == 0, second.stdout + second.stderr
     assert "resuming" in second.stdout and (run_dir / "finished").exists()
     assert not list(run_dir.glob("checkpoint.*.restart"))
+    assert not list(run_dir.glob("restart_forced_liggghts_*.data"))   # cleaned with the checkpoints
     steps = read_table(run_dir / "discharge.txt")["step"]
     assert np.all(np.diff(steps) == steps[1] - steps[0])      # no gap, no repeated row
     t = read_table(run_dir / "discharge.txt")["t"]

@@ -73,6 +73,25 @@ def test_a_run_cut_back_to_its_checkpoint_and_resumed_ends_as_the_uninterrupted_
     assert len(finished) == 1
 
 
+def test_a_run_resumed_with_a_longer_discharge_time_goes_on_to_it_and_says_so(uninterrupted, tmp_path):
+    # a campaign extended from its last checkpoint: the resumed run must
+    # run to the new end, and run.txt must give the new discharge_time
+    # (its last line of the key) rather than the start's
+    listed = (uninterrupted / "checkpoints.txt").read_text().split("\n")
+    extended = tmp_path / "extended"
+    shutil.copytree(uninterrupted, extended)
+    (extended / "checkpoints.txt").write_text(listed[1] + "\n")
+    variables = checkpoint.resume_variables(extended)
+    run_deck(extended, {**QUICK, **variables, "discharge_time": 0.45})
+    run = read_run_info(extended)
+    assert run["discharge_time"] == 0.45 and read_run_info(uninterrupted)["discharge_time"] == 0.3
+    t = read_table(extended / "discharge.txt")["t"]
+    assert t[-1] - run["t_open"] == pytest.approx(0.45, abs=0.01)
+    whole = read_table(uninterrupted / "discharge.txt")
+    np.testing.assert_array_equal(read_table(extended / "discharge.txt")["n_out"][:len(whole["n_out"])],
+                                  whole["n_out"])      # the same run up to the old end
+
+
 def test_the_resume_variables_come_from_the_last_checkpoint_on_disk_and_run_txt(tmp_path):
     (tmp_path / "run.txt").write_text("# run\ndt 0.001\nt_open 0.4\nN 900\nstep_open 400\nfinished 0.9\n")
     (tmp_path / "checkpoints.txt").write_text("500 checkpoint.500.restart\n600 checkpoint.600.restart\n")

@@ -12,6 +12,9 @@
 # an interrupted discharge goes on from its last checkpoint (a restart file
 # every CHECKPOINT s of discharge; analysis.checkpoint cuts its records back
 # to it), so that a session's end loses at most CHECKPOINT s of each run.
+# An unfinished run can be made longer: the same command with a larger
+# DISCHARGE resumes it and runs it to the new end (its run.txt then ends
+# with the new discharge_time); a finished one has no checkpoint left.
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
 #   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 0.96 1.28"]

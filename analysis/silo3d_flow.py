@@ -94,6 +94,12 @@ class FlowRate:
     # above q_mass_se, the blocks are shorter than the flow's correlation time
     # and q_mass_se is too small (doc/silo3d_rotating_records.md)
     q_mass_se_2x: float = np.nan
+    # the rate's relative change across the window, from the line through
+    # the mass rates of the blocks (block_trend), and its standard error: a
+    # flow still settling into its regime (rods under a slow rotation)
+    # shows a trend well beyond its error, which q_mass_se does not show
+    trend: float = np.nan
+    trend_se: float = np.nan
 
     @property
     def removed(self):
@@ -136,8 +142,9 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
                     block_error(tau_eff, cumulative, duration, blocks))
              for name, cumulative in inside_window.items()}
     se_2x = block_error(tau_eff, inside_window["mass"], duration, blocks // 2) if blocks >= 4 else np.nan
+    trend, trend_se = block_trend(tau_eff, inside_window["mass"], duration, blocks)
     return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged,
-                    q_mass_se_2x=se_2x)
+                    q_mass_se_2x=se_2x, trend=trend, trend_se=trend_se)
 
 
 def block_error(tau_eff, cumulative, duration, blocks):
@@ -145,6 +152,26 @@ def block_error(tau_eff, cumulative, duration, blocks):
     std(Q_b, ddof=1)/sqrt(B)."""
     per_block = block_rates(tau_eff, cumulative, duration, blocks)
     return per_block.std(ddof=1) / np.sqrt(blocks)
+
+
+def block_trend(tau_eff, cumulative, duration, blocks):
+    """The rate's relative change across the window: the least-squares line
+    through the B block rates against the blocks' centres (effective
+    time), its slope times the duration over the mean rate; and its
+    standard error from the line's residuals (B - 2 degrees of freedom,
+    blocks taken as independent, as for block_error). NaN for B < 3 or
+    blocks without a grain (a grain that ends a removed gap counts at the
+    window's effective start, before the first block)."""
+    rates = block_rates(tau_eff, cumulative, duration, blocks) if blocks >= 3 else np.zeros(0)
+    if not np.any(rates > 0):
+        return np.nan, np.nan
+    x = (np.arange(blocks) + 0.5) * duration / blocks
+    x -= x.mean()
+    sxx = np.sum(x * x)
+    slope = np.sum(x * (rates - rates.mean())) / sxx
+    residuals = rates - rates.mean() - slope * x
+    slope_se = np.sqrt(np.sum(residuals ** 2) / (blocks - 2) / sxx)
+    return slope * duration / rates.mean(), slope_se * duration / rates.mean()
 
 
 def smoothed_rate(tau, cumulative, window):

@@ -55,15 +55,17 @@ def write_table(path_stem, header, rows, title):
 def write_flow_tables(out, runs, groups, changes, fits, d):
     header = ["f", "D", "seed", "reinject", "Q_kg_s", "Q_kg_s_se", "Q_grains_s", "Q_grains_s_se",
               "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end", "stationary",
-              "Q_kg_s_se_2x"]
+              "Q_kg_s_se_2x", "Q_trend", "Q_trend_se"]
     rows = [[r.info["f"], r.info["D"], r.info["seed"], r.info["reinject"], r.flow.q_mass, r.flow.q_mass_se,
              r.flow.q_grains, r.flow.q_grains_se, r.flow.blocks, r.flow.start, r.flow.end,
              r.flow.effective_duration, r.flow.removed, len(r.flow.gaps), int(r.flow.clogged_at_end),
-             int(r.flow.stationary), r.flow.q_mass_se_2x]
+             int(r.flow.stationary), r.flow.q_mass_se_2x, r.flow.trend, r.flow.trend_se]
             for r in runs]
     write_table(out / "flow_rate_runs", header, rows,
                 "Stationary flow rate per run (SI units; se = block standard error; se_2x = the same "
-                "from blocks twice as long: well above se, se is too small; times since opening). "
+                "from blocks twice as long: well above se, se is too small; Q_trend = the rate's "
+                "relative change across the window from the line through the block rates, with its se: "
+                "well beyond it, the flow is not stationary yet; times since opening). "
                 "Runs: " + ", ".join(f"{r.label} = {r.path}" for r in runs))
     header = ["f", "D", "n", "Q_kg_s", "Q_kg_s_se", "Q_kg_s_ci95", "Q_grains_s", "Q_grains_s_se",
               "Q_grains_s_ci95", "n_no_flow"]
@@ -373,7 +375,8 @@ def main(argv=None):
             progress(f"{label}: Q = {flow.q_mass:.5g} +- {flow.q_mass_se:.2g} kg/s = {flow.q_grains:.5g} "
                      f"+- {flow.q_grains_se:.2g} grains/s over {flow.effective_duration:.3g} s "
                      f"({len(flow.gaps)} no-flow intervals, {flow.removed:.3g} s removed; "
-                     f"se with blocks twice as long {flow.q_mass_se_2x:.2g} kg/s)")
+                     f"se with blocks twice as long {flow.q_mass_se_2x:.2g} kg/s; "
+                     f"trend across the window {flow.trend:+.0%} +- {flow.trend_se:.0%})")
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")

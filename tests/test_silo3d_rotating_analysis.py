@@ -237,6 +237,37 @@ def test_block_error_with_blocks_twice_as_long_by_hand():
     assert math.isnan(silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=3).q_mass_se_2x)
 
 
+def test_trend_across_the_window_by_hand():
+    # The same flow, 100 then 300 grains/s: 10 block rates 100 x 5, 300 x 5
+    # at the centres 0.1, 0.3, ..., 1.9 s. About their means (1 s, 200/s):
+    # Sxx = 2 (0.81 + 0.49 + 0.25 + 0.09 + 0.01) = 3.3 s^2, Sxy = 100 x 2.5
+    # x 2 = 500, slope = 500/3.3 grains/s^2; across the 2 s window over the
+    # mean 200/s: trend = 2 (500/3.3) / 200 = 50/33. Residuals: Syy - slope
+    # Sxy = 10^5 - 500^2/3.3 over 8 degrees of freedom; the slope's se is
+    # sqrt(that/8/3.3), the trend's 2/200 of it.
+    exits = np.concatenate([regular_exits(100.0, 1.0), 1.0 + regular_exits(300.0, 1.0)])
+    tau, n_out, mass_out = record(exits, 2.0)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=10)
+    assert flow.trend == pytest.approx(50.0 / 33.0, rel=1e-9)
+    slope_se = math.sqrt((1e5 - 500.0 ** 2 / 3.3) / 8 / 3.3)
+    assert flow.trend_se == pytest.approx(slope_se * 2.0 / 200.0, rel=1e-9)
+    # a steady flow has none, and its line no residual
+    tau, n_out, mass_out = record(regular_exits(100.0, 2.0), 2.0)
+    steady = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=10)
+    assert abs(steady.trend) < 1e-9 and steady.trend_se < 1e-9
+    # a rate falling as 300 - 100 t over 2 s: the k-th exit where the count
+    # 300 t - 50 t^2 reaches k - 1/2 (never on a block edge, where the count
+    # is a whole number), so each block of 0.2 s holds the integral of the
+    # rate over it and the line is exact: slope -100/s^2, mean 200/s,
+    # trend -1, no residual
+    counts = np.arange(1, 401) - 0.5
+    falling = (300.0 - np.sqrt(300.0 ** 2 - 200.0 * counts)) / 100.0
+    tau, n_out, mass_out = record(falling, 2.0)
+    flow = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=10)
+    assert flow.trend == pytest.approx(-1.0, rel=1e-9) and flow.trend_se < 1e-9
+    assert math.isnan(silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=2).trend)
+
+
 def test_seed_mean_ci_student_t_by_hand():
     # 1, 2, 3: mean 2, sample sd 1, se 1/sqrt 3, t(0.975, 2 dof) = 4.302652729911275
     mean, se, half = silo3d_flow.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
@@ -415,6 +446,7 @@ def test_cli_writes_tables_and_plots(tmp_path):
     # the check of the block length is written for every run (its value: the
     # test of blocks twice as long, by hand, above)
     assert np.all(np.isfinite(per_run["Q_kg_s_se_2x"]))
+    assert np.all(np.isfinite(per_run["Q_trend"])) and np.all(np.isfinite(per_run["Q_trend_se"]))
     # by hand from the rates above, two seeds per D; t(0.975, 1 dof) = 12.706204736174707
     for k, rate in enumerate((20.0, 40.0, 80.0)):
         seeds = np.array([rate, 9 * rate / (11 - removed[rate])]) * GRAIN_MASS

@@ -174,6 +174,34 @@ def block_trend(tau_eff, cumulative, duration, blocks):
     return slope * duration / rates.mean(), slope_se * duration / rates.mean()
 
 
+def window_rates(tau, n_out, mass_out, width):
+    """The raw rates of a whole discharge in consecutive windows of `width`
+    seconds from the opening (tau = 0): clock time, nothing removed. Each
+    window runs between the last samples at or before its nominal edges,
+    and its rate is the increase of the counts over the time between those
+    two samples (exact whatever the sampling). The last window is kept if
+    the record reaches its end within one sample interval (a run of 4 s
+    sampled every 0.01 s ends at a sample just before 4 s). Where the
+    stationary Q gives one number for its window, these show how the rate
+    moves through the run (a transient, a clog). Rows (t_from, t_to,
+    grains/s, kg/s), times of the bounding samples; none if the record is
+    shorter than one window."""
+    tau = np.asarray(tau, dtype=float)
+    if not width > 0:
+        raise ValueError(f"window width must be > 0 s, not {width}")
+    if len(tau) < 2:
+        return np.zeros((0, 4))
+    reach = tau[-1] + (tau[-1] - tau[-2])
+    windows = int(np.floor(reach / width * (1 + 1e-12)))
+    if windows < 1:
+        return np.zeros((0, 4))
+    edges = np.arange(windows + 1) * width
+    index = np.maximum(np.searchsorted(tau, edges * (1 + 1e-12), side="right") - 1, 0)
+    times = tau[index]
+    counts = [np.asarray(cumulative, dtype=float)[index] for cumulative in (n_out, mass_out)]
+    return np.column_stack([times[:-1], times[1:]] + [np.diff(c) / np.diff(times) for c in counts])
+
+
 def smoothed_rate(tau, cumulative, window):
     """Q(tau) = [m(tau + window/2) - m(tau - window/2)] / window on the samples
     (cumulative interpolated linearly), for plots."""

@@ -148,6 +148,7 @@ class Run:
     tau: np.ndarray
     flow: FlowRate = None
     label: str = ""
+    windows: np.ndarray = None      # rows (t_from, t_to, grains/s, kg/s) of silo3d_flow.window_rates
 
     @property
     def finished(self):

@@ -27,7 +27,7 @@ from analysis.lammps_io import iter_dump
 from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
                                   beverloo, exponential, flow_changes, flow_fits, flow_groups, progress,
-                                  run_labels, smoothed_rate)
+                                  run_labels, smoothed_rate, window_rates)
 from analysis.silo3d_records import load_run
 
 
@@ -67,6 +67,11 @@ def write_flow_tables(out, runs, groups, changes, fits, d):
                 "relative change across the window from the line through the block rates, with its se: "
                 "well beyond it, the flow is not stationary yet; times since opening). "
                 "Runs: " + ", ".join(f"{r.label} = {r.path}" for r in runs))
+    write_table(out / "flow_rate_windows", ["f", "D", "seed", "t_from", "t_to", "Q_grains_s", "Q_kg_s"],
+                [[r.info["f"], r.info["D"], r.info["seed"], *row] for r in runs for row in r.windows],
+                "Raw rate of each run in consecutive windows since the opening (times since opening, s; "
+                "clock time, no-flow intervals included; the whole discharge, transient too): how the "
+                "rate moves through the run. Runs: " + ", ".join(f"{r.label} = {r.path}" for r in runs))
     header = ["f", "D", "n", "Q_kg_s", "Q_kg_s_se", "Q_kg_s_ci95", "Q_grains_s", "Q_grains_s_se",
               "Q_grains_s_ci95", "n_no_flow"]
     rows = [[g["f"], g["D"], g["n"], g["Q"], g["Q_se"], g["Q_ci"], g["Qn"], g["Qn_se"], g["Qn_ci"],
@@ -301,6 +306,9 @@ def parse_args(argv):
                       help="without reinjection, stop when this fraction of the grains' mass is out "
                            "(default %(default)s)")
     flow.add_argument("--blocks", type=int, default=BLOCKS, help="blocks for standard errors (default %(default)s)")
+    flow.add_argument("--window-width", type=float, default=1.0,
+                      help="width of the windows of flow_rate_windows, the raw rate through the whole run "
+                           "(s, default %(default)s)")
     flow.add_argument("--rate-window", type=float, default=0.5, help="smoothing of the Q(t) plot (s)")
     fields = parser.add_argument_group("coarse-grained fields (need dump.cg; dump.contacts optional)")
     fields.add_argument("--no-fields", action="store_true", help="flow rate only")
@@ -317,7 +325,10 @@ def parse_args(argv):
     fields.add_argument("--map-frames", type=int, default=5, help="frames coarse-grained per map window")
     fields.add_argument("--orifice-every", type=int, default=1, help="use every n-th frame for orifice averages")
     fields.add_argument("--zmax", type=float, help="top of the map grid (m); default fill height + r_c")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if not args.window_width > 0:
+        parser.error(f"--window-width must be > 0 s, not {args.window_width:g}")
+    return args
 
 
 def field_settings(args, run, first_masses):
@@ -380,6 +391,9 @@ def main(argv=None):
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")
+        run.windows = window_rates(run.tau, run.discharge["n_out"], run.discharge["mass_out"], args.window_width)
+        progress(f"{label}: grains/s per {args.window_width:g} s since the opening: "
+                 + (", ".join(f"{row[2]:.0f}" for row in run.windows) or "none (shorter than one window)"))
         directory = args.out / "runs" / label
         directory.mkdir(parents=True, exist_ok=True)
         plot_discharge(directory / "discharge.png", run, args.rate_window)

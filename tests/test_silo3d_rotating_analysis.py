@@ -268,6 +268,35 @@ def test_trend_across_the_window_by_hand():
     assert math.isnan(silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.0, 2.0, blocks=2).trend)
 
 
+def test_window_rates_through_the_run_by_hand():
+    # 100 grains/s for 1 s, then 300/s for 1 s (exits at (j + 1/2)/rate,
+    # never on a sample): windows of 0.5 s give 100, 100, 300, 300; of
+    # 0.75 s, 75 grains in the first (100/s) and 25 + 150 in the second
+    # (175/0.75 = 233.3/s), and no third (2.25 s is past the record's end)
+    exits = np.concatenate([regular_exits(100.0, 1.0), 1.0 + regular_exits(300.0, 1.0)])
+    tau, n_out, mass_out = record(exits, 2.0)
+    rows = silo3d_flow.window_rates(tau, n_out, mass_out, 0.5)
+    assert rows[:, :2].tolist() == [[0.0, 0.5], [0.5, 1.0], [1.0, 1.5], [1.5, 2.0]]
+    assert rows[:, 2] == pytest.approx([100.0, 100.0, 300.0, 300.0], rel=1e-12)
+    assert rows[:, 3] == pytest.approx(1e-3 * rows[:, 2], rel=1e-12)
+    rows = silo3d_flow.window_rates(tau, n_out, mass_out, 0.75)
+    assert rows[:, 1] == pytest.approx([0.75, 1.5]) and rows[:, 2] == pytest.approx([100.0, 175.0 / 0.75])
+    # samples before the opening (tau < 0) do not count; a record shorter
+    # than one window has none; a width <= 0 is refused
+    early = np.concatenate([[-0.2, -0.1], tau])
+    rows = silo3d_flow.window_rates(early, np.concatenate([[0.0, 0.0], n_out]),
+                                    np.concatenate([[0.0, 0.0], mass_out]), 0.5)
+    assert rows[:, 2] == pytest.approx([100.0, 100.0, 300.0, 300.0], rel=1e-12)
+    # a record that stops one sample short of 2 s (as a 4 s run's, sampled
+    # every 0.01 s, ends at 3.9994 s) keeps its last window, from 1.5 s to
+    # its last sample at 1.99 s: 397 - 250 grains in 0.49 s, still 300/s
+    rows = silo3d_flow.window_rates(tau[:-1], n_out[:-1], mass_out[:-1], 0.5)
+    assert rows[-1, :2] == pytest.approx([1.5, 1.99]) and rows[:, 2] == pytest.approx([100, 100, 300, 300])
+    assert silo3d_flow.window_rates(tau, n_out, mass_out, 2.5).shape == (0, 4)
+    with pytest.raises(ValueError, match="width must be > 0"):
+        silo3d_flow.window_rates(tau, n_out, mass_out, 0.0)
+
+
 def test_seed_mean_ci_student_t_by_hand():
     # 1, 2, 3: mean 2, sample sd 1, se 1/sqrt 3, t(0.975, 2 dof) = 4.302652729911275
     mean, se, half = silo3d_flow.seed_mean_ci([1.0, 2.0, 3.0], [9.0, 9.0, 9.0], [9, 9, 9])
@@ -453,6 +482,16 @@ def test_cli_writes_tables_and_plots(tmp_path):
         assert groups["Q_kg_s"][k] == pytest.approx(seeds.mean(), rel=1e-7)
         assert groups["Q_kg_s_ci95"][k] == pytest.approx(12.706204736174707 * abs(seeds[1] - seeds[0]) / 2,
                                                           rel=1e-6)
+    # the raw rate per 1 s window through the whole run (12 s): seed 1 is
+    # the rate in every window; seed 2 has none from 4 to 6 s
+    windows = read_table(out / "flow_rate_windows.txt")
+    for D, rate in ((0.03, 20.0), (0.04, 40.0), (0.05, 80.0)):
+        for seed in (1, 2):
+            mine = (windows["D"] == D) & (windows["seed"] == seed)
+            assert windows["t_from"][mine].tolist() == list(range(12))
+            expected = [0.0 if seed == 2 and t in (4, 5) else rate for t in range(12)]
+            assert windows["Q_grains_s"][mine] == pytest.approx(expected, rel=1e-9)
+    assert f"f0.32_D30mm_seed1: grains/s per 1 s since the opening: {', '.join(['20'] * 12)}" in result.stdout
     fits = read_table(out / "flow_rate_fits.txt")
     assert fits["f"].tolist() == [0.32] and fits["beverloo_dof"].tolist() == [1]
     change = read_table(out / "flow_rate_change.txt")               # no run at f = 0: no rows

@@ -198,6 +198,9 @@ def window_rates(tau, n_out, mass_out, width):
     edges = np.arange(windows + 1) * width
     index = np.maximum(np.searchsorted(tau, edges * (1 + 1e-12), side="right") - 1, 0)
     times = tau[index]
+    if np.any(np.diff(times) <= 0):
+        raise ValueError(f"window width {width:g} s is shorter than the record's sample interval "
+                         f"(up to {np.max(np.diff(tau)):.3g} s): no sample inside some windows")
     counts = [np.asarray(cumulative, dtype=float)[index] for cumulative in (n_out, mass_out)]
     return np.column_stack([times[:-1], times[1:]] + [np.diff(c) / np.diff(times) for c in counts])
 

@@ -391,7 +391,12 @@ def main(argv=None):
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")
-        run.windows = window_rates(run.tau, run.discharge["n_out"], run.discharge["mass_out"], args.window_width)
+        try:
+            run.windows = window_rates(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
+                                       args.window_width)
+        except ValueError as error:
+            progress(f"ERROR: {label}: --window-width: {error}")
+            return 2
         progress(f"{label}: grains/s per {args.window_width:g} s since the opening: "
                  + (", ".join(f"{row[2]:.0f}" for row in run.windows) or "none (shorter than one window)"))
         directory = args.out / "runs" / label

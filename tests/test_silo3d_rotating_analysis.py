@@ -295,6 +295,9 @@ def test_window_rates_through_the_run_by_hand():
     assert silo3d_flow.window_rates(tau, n_out, mass_out, 2.5).shape == (0, 4)
     with pytest.raises(ValueError, match="width must be > 0"):
         silo3d_flow.window_rates(tau, n_out, mass_out, 0.0)
+    # a window shorter than the sampling would hold no sample
+    with pytest.raises(ValueError, match="shorter than the record's sample interval"):
+        silo3d_flow.window_rates(tau, n_out, mass_out, 0.004)
 
 
 def test_seed_mean_ci_student_t_by_hand():

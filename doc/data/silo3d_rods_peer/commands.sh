@@ -25,11 +25,24 @@ for s in 32452843 49979687; do
     -var seed $s -var discharge_time 1.0)
 done
 
-# The full-size pair (2026-11-25, binary and inputs of commit 5bb37c6):
-# the rods' first packing (settled as in ../silo3d_rods/commands.sh, kept
-# in ../silo3d_rods/packings/), clumps placed on it and relaxed 0.1 s, then
-# f = 0 and 0.32 Hz at the rods' dt. Stopped after 0.29 s of the f = 0
-# discharge (full_clump_D0.06_f0_s32452843_partial/: run.txt, discharge.txt,
-# the loop times of the relaxation and of each chunk).
+# The full-size pair (2026-11-25, binary of commit 5bb37c6, the C++ of main
+# since; inputs and run.sh of 5bb37c6, then of fb386f2 when resumed): the
+# rods' first packing (../silo3d_rods/packings/), clumps placed on it and
+# relaxed 0.1 s, then f = 0 and 0.32 Hz at the rods' dt; and the rods of
+# the same packing without reinjection, the pair's other half.
+# full_D0.06_s32452843/: <shape>_f<f>/ run.txt, discharge.txt and
+# loop_times.txt (every 'Loop time' line of the run's screen.txt: chunks run
+# again after a stop included); clump_packing_loop_times.txt (the
+# relaxation); flow_rate_{runs,windows}_<shape>.md from
+#   /usr/bin/python3 -m analysis.silo3d_rotating full_D0.06_s32452843/<shape>_f* --out OUT \
+#       --no-fields --transient 0.5 --window-width 0.5
+# The clump f = 0 run was stopped at 0.29 s, resumed from its 0.25 s
+# checkpoint, stopped at 0.90 s by the end of a session and resumed from
+# its 0.75 s checkpoint; the rods ran uninterrupted.
+# With runs/rods/packing_s32452843 and runs/rods_out/packing_s32452843 made
+# from the kept packing (the rods without reinjection in a directory of
+# their own: run.sh names runs by D, f and seed only):
 SHAPE=clump PEER_OF=runs/rods RELAX=0.1 ASPECT=3.3 DS="0.06" FS="0 0.32" SEEDS="32452843" DT_FRACTION=40 \
   DISCHARGE=1.5 TRANSIENT=0.5 JOBS=1 DECK_VARS="dt 3.08993237597775e-06" bash examples/silo3d_rotating/run.sh runs/peer_full
+SHAPE=rod ASPECT=3.3 DS="0.06" FS="0 0.32" SEEDS="32452843" DT_FRACTION=40 REINJECT=0 \
+  DISCHARGE=1.5 TRANSIENT=0.5 JOBS=1 bash examples/silo3d_rotating/run.sh runs/rods_out

@@ -106,14 +106,23 @@ class FlowRate:
         return float(np.sum(self.gaps[:, 1] - self.gaps[:, 0])) if len(self.gaps) else 0.0
 
 
+def last_sample_at_or_before(times, edges, tolerance=0.0):
+    """Index of the last sample at or before each edge (the first sample
+    for an edge before it): block and window rates are the increases of
+    the cumulative counts between these samples. With a relative
+    `tolerance`, an edge that round-off puts a hair before a sample takes
+    that sample."""
+    edges = np.asarray(edges, dtype=float) * (1 + tolerance)
+    return np.maximum(np.searchsorted(times, edges, side="right") - 1, 0)
+
+
 def block_rates(tau_eff, cumulative, duration, blocks):
     """Rates of `blocks` equal blocks of effective time: the increase of a
     cumulative count over each block, the count at a block edge being that
     of the last sample at or before it (a gap's end sample, at the same
     effective time as its start, is the later one and counts)."""
     edges = np.linspace(0.0, duration, blocks + 1)
-    index = np.searchsorted(tau_eff, edges, side="right") - 1
-    at_edges = np.asarray(cumulative, dtype=float)[np.maximum(index, 0)]
+    at_edges = np.asarray(cumulative, dtype=float)[last_sample_at_or_before(tau_eff, edges)]
     return np.diff(at_edges) / np.diff(edges)
 
 
@@ -196,7 +205,7 @@ def window_rates(tau, n_out, mass_out, width):
     if windows < 1:
         return np.zeros((0, 4))
     edges = np.arange(windows + 1) * width
-    index = np.maximum(np.searchsorted(tau, edges * (1 + 1e-12), side="right") - 1, 0)
+    index = last_sample_at_or_before(tau, edges, tolerance=1e-12)
     times = tau[index]
     if np.any(np.diff(times) <= 0):
         raise ValueError(f"window width {width:g} s is shorter than the record's sample interval "

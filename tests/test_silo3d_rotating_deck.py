@@ -220,16 +220,20 @@ def test_the_quick_deck_discharges_clumps_of_glued_spheres(run, tmp_path):
     it counts as out (fix multisphere deletes its other spheres at a
     re-neighbour five steps later), so n_out is whole, the atoms on every
     thermo line are ten per clump left plus at most nine of a leaving one,
-    and mass_out is n_out rod masses."""
+    and mass_out is n_out rod masses. discharge.txt is written every step,
+    so that it holds records inside those five steps of each clump that
+    leaves (where a count of atoms/10 gave tenths of a clump)."""
     rod_mass = solid_rod_mass(0.020, 3.3)
     rods = run(deck(quick=1, shape="rod", settle_time=0.0001, discharge_time=0.0001), subdir="rods")
     rod_dt = read_run_info(tmp_path / "rods", required=())["dt"]
-    output = run(quick_deck(shape="clump", f=0.32, settle_time=0.3, discharge_time=0.15))
+    output = run(quick_deck(shape="clump", f=0.32, settle_time=0.3, discharge_time=0.15,
+                            record_every_time=rod_dt / 2))
     params = read_run_info(tmp_path, required=())
     assert params["shape"] == "clump" and params["N"] == 300
     assert params["mass"] == pytest.approx(rod_mass, rel=1e-12)
     assert params["dt"] == pytest.approx(rod_dt / 2, rel=1e-12) and "nan" not in rods.lower()
     record = read_table(tmp_path / "discharge.txt")
+    assert np.all(np.diff(record["step"]) == 1)
     assert np.all(np.diff(record["n_out"]) >= 0) and record["n_out"][-1] > 5
     np.testing.assert_array_equal(record["n_out"], np.round(record["n_out"]))
     np.testing.assert_allclose(record["mass_out"], record["n_out"] * rod_mass, rtol=1e-9)

@@ -39,7 +39,7 @@ done
 # The clump f = 0 run was stopped at 0.29 s, resumed from its 0.25 s
 # checkpoint, stopped at 0.90 s by the end of a session and resumed from
 # its 0.75 s checkpoint; the rods ran uninterrupted. clump_f0.32_partial/:
-# the clump f = 0.32 Hz run's run.txt and discharge.txt at 1.12 s, still
+# the clump f = 0.32 Hz run's run.txt and discharge.txt at 1.13 s, still
 # running when a session ended.
 # With runs/rods/packing_s32452843 and runs/rods_out/packing_s32452843 made
 # from the kept packing (the rods without reinjection in a directory of

@@ -38,9 +38,9 @@ done
 #       --no-fields --transient 0.5 --window-width 0.5
 # The clump f = 0 run was stopped at 0.29 s, resumed from its 0.25 s
 # checkpoint, stopped at 0.90 s by the end of a session and resumed from
-# its 0.75 s checkpoint; the rods ran uninterrupted. clump_f0.32_partial/:
-# the clump f = 0.32 Hz run's run.txt and discharge.txt at 1.13 s, still
-# running when a session ended.
+# its 0.75 s checkpoint; the clump f = 0.32 Hz run was stopped at 1.25 s by
+# the end of a session and resumed from its 1.25 s checkpoint; the rods ran
+# uninterrupted.
 # With runs/rods/packing_s32452843 and runs/rods_out/packing_s32452843 made
 # from the kept packing (the rods without reinjection in a directory of
 # their own: run.sh names runs by D, f and seed only):

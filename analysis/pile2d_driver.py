@@ -5,7 +5,10 @@ width with inputs/pile2d/in.discharge (doc/pile2d.md).
 Resumable: a pile whose restart file and build record exist is not built
 again, a discharge whose (model, L, w, seed) is already in the results file
 is not run again; so an interrupted ensemble is continued by the same
-command. Several tasks (one task = one pile and its discharges) run at once
+command. A pile whose discharges are all recorded is not rebuilt when its
+restart is gone (records copied to a new directory resume there); one with
+discharges still to run is, and its line then appears twice in piles.txt
+(the same pile on one rank: remove the old line first to keep one). Several tasks (one task = one pile and its discharges) run at once
 with -j; --mpi N runs each LIGGGHTS under mpirun -np N.
 
 Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
@@ -94,6 +97,14 @@ def read_records(path, key_columns):
     return keys
 
 
+def needs_build(recorded, restart_exists, missing_widths):
+    """Whether a pile must be (re)built: it has no line in piles.txt, or
+    discharges are still to run and its restart file is gone. A pile whose
+    discharges are all recorded is not rebuilt for want of its restart (a
+    record copied to a new directory keeps its finished piles as they are)."""
+    return not recorded or (bool(missing_widths) and not restart_exists)
+
+
 def ensure_header(path, header):
     path = Path(path)
     if not path.exists() or path.stat().st_size == 0:
@@ -156,17 +167,17 @@ class Runner:
         name = f"{model}_L{length:g}_s{seed}"
         restart = self.out / "piles" / f"{name}.restart"
         variables = self.common_variables(model, length, seed)
-        built = (model, width_key(length), width_key(seed)) in read_records(
+        recorded = (model, width_key(length), width_key(seed)) in read_records(
             self.piles_file, ("model", "L", "seed"))
-        if not (built and restart.exists()):
+        done = read_records(self.results_file, ("model", "L", "w", "seed"))
+        missing = [w for w in widths
+                   if (model, width_key(length), width_key(w), width_key(seed)) not in done]
+        if needs_build(recorded, restart.exists(), missing):
             seconds = self.liggghts("in.build", {**variables, "pile": restart,
                                                  "piles": self.piles_file},
                                     self.out / "logs" / f"build_{name}.txt")
             self.progress(f"built {name} in {seconds:.1f} s")
-        done = read_records(self.results_file, ("model", "L", "w", "seed"))
-        for w in widths:
-            if (model, width_key(length), width_key(w), width_key(seed)) in done:
-                continue
+        for w in missing:
             seconds = self.liggghts("in.discharge", {**variables, "pile": restart, "w": w,
                                                      "results": self.results_file},
                                     self.out / "logs" / f"discharge_{name}_w{w:g}.txt")
@@ -188,10 +199,13 @@ class Runner:
         tasks = [(model, length, seed) for length in a.L for seed in seeds for model in a.models]
         built = read_records(self.piles_file, ("model", "L", "seed"))
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
-        self.total = sum((0 if (m, width_key(length), width_key(s)) in built else 1) +
-                         sum(1 for w in a.widths
-                             if (m, width_key(length), width_key(w), width_key(s)) not in done)
-                         for m, length, s in tasks)
+        self.total = 0
+        for m, length, s in tasks:
+            missing = [w for w in a.widths
+                       if (m, width_key(length), width_key(w), width_key(s)) not in done]
+            restart = self.out / "piles" / f"{m}_L{length:g}_s{s}.restart"
+            self.total += len(missing) + needs_build((m, width_key(length), width_key(s)) in built,
+                                                     restart.exists(), missing)
         print(f"pile2d driver: {len(tasks)} piles x {len(a.widths)} widths, "
               f"{self.total} runs to do, -j {a.jobs}, results in {self.results_file}", flush=True)
         failures = []

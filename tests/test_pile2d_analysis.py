@@ -207,3 +207,38 @@ def test_driver_refuses_bad_seeds_and_vars():
         pile2d_driver.parse(["--out", "x", "--L", "20", "--widths", "1", "--seed-list", "15485864"])
     with pytest.raises(SystemExit):
         pile2d_driver.parse(["--out", "x", "--L", "20", "--widths", "1", "--var", "quick"])
+
+
+
+def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tmp_path, monkeypatch):
+    """A finished pile's record copied without its restart file: nothing to
+    run, so the driver must not start LIGGGHTS (here: would fail loudly)."""
+    seed = pile2d_driver.prime_seeds(1)[0]
+    (tmp_path / "piles.txt").write_text(
+        pile2d_driver.PILES_HEADER + "\n"
+        f"fixed 20.0 {seed} 120 5.1 20 200 30.0 90.0 1 25 0.3 0.3 gone.restart 0.1 0.05\n")
+    (tmp_path / "discharges.txt").write_text(
+        pile2d_driver.DISCHARGES_HEADER + "\n" +
+        "".join(f"fixed 20.0 {w} {seed} 0 100 5.1 120 {w} 50 1 25 0.3 0.3\n" for w in (3.0, 4.0)))
+    monkeypatch.setattr(pile2d_driver, "BINARY", tmp_path / "no_such_liggghts")
+    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+                                "--seeds", "1", "--widths", "3", "4"])
+    runner = pile2d_driver.Runner(args)
+    assert runner.run() == []
+    assert runner.total == 0 and runner.done == 0
+    # one width more: the pile is rebuilt for it (and LIGGGHTS is called)
+    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+                                "--seeds", "1", "--widths", "3", "4", "5"])
+    runner = pile2d_driver.Runner(args)
+    failures = runner.run()
+    assert runner.total == 2 and len(failures) == 1 and "in.build" in failures[0]
+
+
+def test_driver_rebuilds_a_pile_only_when_discharges_need_it():
+    needs = pile2d_driver.needs_build
+    assert needs(recorded=False, restart_exists=False, missing_widths=[])      # build-only run
+    assert needs(recorded=False, restart_exists=True, missing_widths=[4.2])    # no record: build
+    assert needs(recorded=True, restart_exists=False, missing_widths=[4.2])    # restart gone, work left
+    assert not needs(recorded=True, restart_exists=True, missing_widths=[4.2])
+    # every discharge recorded: a copied record without its restart files stays as it is
+    assert not needs(recorded=True, restart_exists=False, missing_widths=[])

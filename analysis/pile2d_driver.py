@@ -8,8 +8,9 @@ is not run again; so an interrupted ensemble is continued by the same
 command. A pile whose discharges are all recorded is not rebuilt when its
 restart is gone (records copied to a new directory resume there); one with
 discharges still to run is, and its line then appears twice in piles.txt
-(the same pile on one rank: remove the old line first to keep one). Several tasks (one task = one pile and its discharges) run at once
-with -j; --mpi N runs each LIGGGHTS under mpirun -np N.
+(the same pile on one rank: remove the old line first to keep one).
+Several tasks (one task = one pile and its discharges) run at once with
+-j; --mpi N runs each LIGGGHTS under mpirun -np N.
 
 Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
 discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.

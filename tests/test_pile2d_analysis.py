@@ -209,7 +209,6 @@ def test_driver_refuses_bad_seeds_and_vars():
         pile2d_driver.parse(["--out", "x", "--L", "20", "--widths", "1", "--var", "quick"])
 
 
-
 def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tmp_path, monkeypatch):
     """A finished pile's record copied without its restart file: nothing to
     run, so the driver must not start LIGGGHTS (here: would fail loudly)."""

@@ -98,6 +98,12 @@ def read_records(path, key_columns):
     return keys
 
 
+def missing_widths(done, model, length, seed, widths):
+    """The widths of this pile whose discharge is not among the `done` keys."""
+    return [w for w in widths
+            if (model, width_key(length), width_key(w), width_key(seed)) not in done]
+
+
 def needs_build(recorded, restart_exists, missing_widths):
     """Whether a pile must be (re)built: it has no line in piles.txt, or
     discharges are still to run and its restart file is gone. A pile whose
@@ -163,16 +169,18 @@ class Runner:
             print(f"[{time.strftime('%H:%M:%S')}] {self.done}/{self.total} ({elapsed / 60:.1f} min) "
                   f"{text}", flush=True)
 
+    def restart_path(self, model, length, seed):
+        return self.out / "piles" / f"{model}_L{length:g}_s{seed}.restart"
+
     def task(self, model, length, seed, widths):
         """Build the pile if needed, then the discharges still missing."""
         name = f"{model}_L{length:g}_s{seed}"
-        restart = self.out / "piles" / f"{name}.restart"
+        restart = self.restart_path(model, length, seed)
         variables = self.common_variables(model, length, seed)
         recorded = (model, width_key(length), width_key(seed)) in read_records(
             self.piles_file, ("model", "L", "seed"))
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
-        missing = [w for w in widths
-                   if (model, width_key(length), width_key(w), width_key(seed)) not in done]
+        missing = missing_widths(done, model, length, seed, widths)
         if needs_build(recorded, restart.exists(), missing):
             seconds = self.liggghts("in.build", {**variables, "pile": restart,
                                                  "piles": self.piles_file},
@@ -202,11 +210,9 @@ class Runner:
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
         self.total = 0
         for m, length, s in tasks:
-            missing = [w for w in a.widths
-                       if (m, width_key(length), width_key(w), width_key(s)) not in done]
-            restart = self.out / "piles" / f"{m}_L{length:g}_s{s}.restart"
+            missing = missing_widths(done, m, length, s, a.widths)
             self.total += len(missing) + needs_build((m, width_key(length), width_key(s)) in built,
-                                                     restart.exists(), missing)
+                                                     self.restart_path(m, length, s).exists(), missing)
         print(f"pile2d driver: {len(tasks)} piles x {len(a.widths)} widths, "
               f"{self.total} runs to do, -j {a.jobs}, results in {self.results_file}", flush=True)
         failures = []

@@ -7,8 +7,11 @@ again, a discharge whose (model, L, w, seed) is already in the results file
 is not run again; so an interrupted ensemble is continued by the same
 command. A pile whose discharges are all recorded is not rebuilt when its
 restart is gone (records copied to a new directory resume there); one with
-discharges still to run is, and its line then appears twice in piles.txt
-(the same pile on one rank: remove the old line first to keep one).
+discharges still to run is rebuilt, and must come out as the recorded pile
+(grain count and h0 to the printed digit; its line goes to
+logs/rebuild_*.txt, not twice into piles.txt): otherwise the pile fails
+with an error, since its recorded discharges were of another pile (a new
+binary or deck can build another pile from the same seed).
 Several tasks (one task = one pile and its discharges) run at once with
 -j; --mpi N runs each LIGGGHTS under mpirun -np N.
 
@@ -73,13 +76,13 @@ def width_key(w):
     return round(float(w), 6)
 
 
-def read_records(path, key_columns):
-    """Set of key tuples (model as text, the rest rounded numbers) of the
-    lines of a record file; missing file -> empty set."""
-    keys = set()
+def read_rows(path):
+    """The lines of a record file as dicts named by its `#` header; a line
+    cut by an interruption is skipped; missing file -> no rows."""
+    rows = []
     path = Path(path)
     if not path.exists():
-        return keys
+        return rows
     names = None
     for line in path.read_text().splitlines():
         words = line.split()
@@ -93,9 +96,18 @@ def read_records(path, key_columns):
             continue
         if names is None or len(words) < len(names):
             continue          # a line cut by an interruption
-        row = dict(zip(names, words))
-        keys.add(tuple(row[c] if c == "model" else width_key(row[c]) for c in key_columns))
-    return keys
+        rows.append(dict(zip(names, words)))
+    return rows
+
+
+def row_key(row, key_columns):
+    """The key tuple of a row: model as text, the rest rounded numbers."""
+    return tuple(row[c] if c == "model" else width_key(row[c]) for c in key_columns)
+
+
+def read_records(path, key_columns):
+    """Set of key tuples of the lines of a record file."""
+    return {row_key(row, key_columns) for row in read_rows(path)}
 
 
 def missing_widths(done, model, length, seed, widths):
@@ -110,6 +122,17 @@ def needs_build(recorded, restart_exists, missing_widths):
     discharges are all recorded is not rebuilt for want of its restart (a
     record copied to a new directory keeps its finished piles as they are)."""
     return not recorded or (bool(missing_widths) and not restart_exists)
+
+
+def rebuilt_pile_problem(recorded_row, rebuilt_row):
+    """None when a rebuilt pile is the recorded one (its grain count and
+    h0 to the printed digit), else what differs: the discharges already
+    recorded were then made from another pile."""
+    if rebuilt_row is None:
+        return "the rebuild wrote no line"
+    changed = [f"{c} {recorded_row[c]} -> {rebuilt_row[c]}" for c in ("n_pile", "h0")
+               if recorded_row[c] != rebuilt_row[c]]
+    return ", ".join(changed) or None
 
 
 def ensure_header(path, header):
@@ -177,15 +200,33 @@ class Runner:
         name = f"{model}_L{length:g}_s{seed}"
         restart = self.restart_path(model, length, seed)
         variables = self.common_variables(model, length, seed)
-        recorded = (model, width_key(length), width_key(seed)) in read_records(
-            self.piles_file, ("model", "L", "seed"))
+        key = (model, width_key(length), width_key(seed))
+        recorded = [row for row in read_rows(self.piles_file)
+                    if row_key(row, ("model", "L", "seed")) == key]
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
         missing = missing_widths(done, model, length, seed, widths)
-        if needs_build(recorded, restart.exists(), missing):
-            seconds = self.liggghts("in.build", {**variables, "pile": restart,
-                                                 "piles": self.piles_file},
+        if needs_build(bool(recorded), restart.exists(), missing):
+            # a pile rebuilt for the discharges its lost restart still owes
+            # writes its line aside, to be compared with the recorded one
+            piles = self.out / "logs" / f"rebuild_{name}.txt" if recorded else self.piles_file
+            if recorded:
+                piles.unlink(missing_ok=True)
+            seconds = self.liggghts("in.build", {**variables, "pile": restart, "piles": piles},
                                     self.out / "logs" / f"build_{name}.txt")
-            self.progress(f"built {name} in {seconds:.1f} s")
+            if recorded:
+                rebuilt = read_rows(piles)
+                problem = rebuilt_pile_problem(recorded[-1], rebuilt[-1] if rebuilt else None)
+                if problem:
+                    # keep the restart of the other pile out of later runs
+                    restart.rename(restart.with_name(restart.name + ".differs"))
+                    raise RuntimeError(
+                        f"{name} rebuilt is not the recorded pile ({problem}); its recorded "
+                        f"discharges are of the recorded one: rerun the pile in a new --out "
+                        f"(the rebuilt one is {restart.name}.differs)")
+                self.progress(f"rebuilt {name} in {seconds:.1f} s, the recorded pile "
+                              f"(n_pile {rebuilt[-1]['n_pile']}, h0 {rebuilt[-1]['h0']})")
+            else:
+                self.progress(f"built {name} in {seconds:.1f} s")
         for w in missing:
             seconds = self.liggghts("in.discharge", {**variables, "pile": restart, "w": w,
                                                      "results": self.results_file},

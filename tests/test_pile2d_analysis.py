@@ -233,6 +233,70 @@ def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tm
     assert runner.total == 2 and len(failures) == 1 and "in.build" in failures[0]
 
 
+FAKE_LIGGGHTS = """#!/bin/bash
+# stands in for LIGGGHTS in the driver's tests: in.build appends a pile line
+# with $FAKE_N_PILE grains (and, as the deck, the header to an empty file)
+# and writes the restart; in.discharge a record line
+while [ $# -gt 0 ]; do
+    case $1 in
+        -in) deck=$2; shift 2 ;;
+        -var) eval "var_$2=\\$3"; shift 3 ;;
+        *) shift ;;
+    esac
+done
+case $deck in
+    *in.build) touch "$var_pile"
+        test -s "$var_piles" || echo "$FAKE_PILES_HEADER" > "$var_piles"
+        echo "$var_model $var_L $var_seed $FAKE_N_PILE 5.1 20 200 30.0 90.0 1 25 0.3 0.3 $var_pile 0.1 0.05" >> "$var_piles" ;;
+    *in.discharge) echo "$var_model $var_L $var_w $var_seed 0 100 5.1 120 $var_w 50 1 25 0.3 0.3" >> "$var_results" ;;
+esac
+"""
+
+
+def fake_record_without_restart(tmp_path, monkeypatch, n_pile):
+    """A pile recorded with 120 grains and one discharge, its restart gone,
+    and a fake LIGGGHTS that rebuilds it with n_pile grains."""
+    seed = pile2d_driver.prime_seeds(1)[0]
+    (tmp_path / "piles.txt").write_text(
+        pile2d_driver.PILES_HEADER + "\n"
+        f"fixed 20.0 {seed} 120 5.1 20 200 30.0 90.0 1 25 0.3 0.3 gone.restart 0.1 0.05\n")
+    (tmp_path / "discharges.txt").write_text(
+        pile2d_driver.DISCHARGES_HEADER + "\n"
+        f"fixed 20.0 3.0 {seed} 0 100 5.1 120 3.0 50 1 25 0.3 0.3\n")
+    binary = tmp_path / "fake_liggghts"
+    binary.write_text(FAKE_LIGGGHTS)
+    binary.chmod(0o755)
+    monkeypatch.setattr(pile2d_driver, "BINARY", binary)
+    monkeypatch.setenv("FAKE_N_PILE", str(n_pile))
+    monkeypatch.setenv("FAKE_PILES_HEADER", pile2d_driver.PILES_HEADER)
+    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+                                "--seeds", "1", "--widths", "3", "4"])
+    return pile2d_driver.Runner(args), seed
+
+
+def test_driver_rebuilds_the_recorded_pile_without_a_second_line(tmp_path, monkeypatch):
+    runner, seed = fake_record_without_restart(tmp_path, monkeypatch, n_pile=120)
+    assert runner.run() == []
+    assert runner.total == 2 and runner.done == 2
+    piles = pile2d_driver.read_rows(tmp_path / "piles.txt")
+    assert [(row["seed"], row["n_pile"]) for row in piles] == [(str(seed), "120")]
+    assert pile2d_driver.read_records(tmp_path / "discharges.txt", ("w",)) == {(3.0,), (4.0,)}
+
+
+def test_driver_refuses_to_discharge_a_rebuilt_pile_that_is_not_the_recorded_one(
+        tmp_path, monkeypatch):
+    runner, seed = fake_record_without_restart(tmp_path, monkeypatch, n_pile=121)
+    failures = runner.run()
+    assert len(failures) == 1 and "n_pile 120 -> 121" in failures[0]
+    # no discharge of the other pile, and its restart kept out of the next run
+    assert pile2d_driver.read_records(tmp_path / "discharges.txt", ("w",)) == {(3.0,)}
+    restart = runner.restart_path("fixed", 20.0, seed)
+    assert not restart.exists() and restart.with_name(restart.name + ".differs").exists()
+    assert len(pile2d_driver.read_rows(tmp_path / "piles.txt")) == 1
+    assert pile2d_driver.rebuilt_pile_problem({"n_pile": "5", "h0": "1.5"},
+                                              {"n_pile": "5", "h0": "1.5"}) is None
+
+
 def test_driver_rebuilds_a_pile_only_when_discharges_need_it():
     needs = pile2d_driver.needs_build
     assert needs(recorded=False, restart_exists=False, missing_widths=[])      # build-only run

@@ -373,7 +373,12 @@ def make_plots(summary, out, fig_length=None):
         if "w_c" in c:
             line = np.linspace(0, x.max() * 1.05, 20)
             ax.plot(line, c["w_c"] + c["slope"] * line, "-", lw=0.8, color=points.lines[0].get_color())
-    ax.set_xlabel("1 / L  (1/d)")
+        if model in PAPER_CRITICAL_WIDTH:
+            # the paper's w_c on the axis, open, beside where our fit meets it
+            value, error = PAPER_CRITICAL_WIDTH[model]
+            ax.errorbar([0.0], [value], yerr=[error], fmt=marker, mfc="none", capsize=3,
+                        color=points.lines[0].get_color(), clip_on=False)
+    ax.set_xlabel("1 / L  (1/d); open at 1/L = 0: the paper's w_c")
     ax.set_ylabel("w_t / d")
     ax.set_xlim(left=0)
     ax.legend(fontsize=8)

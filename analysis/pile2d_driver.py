@@ -218,7 +218,8 @@ class Runner:
                 problem = rebuilt_pile_problem(recorded[-1], rebuilt[-1] if rebuilt else None)
                 if problem:
                     # keep the restart of the other pile out of later runs
-                    restart.rename(restart.with_name(restart.name + ".differs"))
+                    if restart.exists():
+                        restart.rename(restart.with_name(restart.name + ".differs"))
                     raise RuntimeError(
                         f"{name} rebuilt is not the recorded pile ({problem}); its recorded "
                         f"discharges are of the recorded one: rerun the pile in a new --out "

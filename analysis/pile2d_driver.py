@@ -110,6 +110,16 @@ def read_records(path, key_columns):
     return {row_key(row, key_columns) for row in read_rows(path)}
 
 
+def pile_name(model, length, seed):
+    """A pile's name in file names: model_L<L>_s<seed>."""
+    return f"{model}_L{length:g}_s{seed}"
+
+
+def pile_key(model, length, seed):
+    """A pile's key among the (model, L, seed) keys of piles.txt."""
+    return (model, width_key(length), width_key(seed))
+
+
 def missing_widths(done, model, length, seed, widths):
     """The widths of this pile whose discharge is not among the `done` keys."""
     return [w for w in widths
@@ -193,40 +203,45 @@ class Runner:
                   f"{text}", flush=True)
 
     def restart_path(self, model, length, seed):
-        return self.out / "piles" / f"{model}_L{length:g}_s{seed}.restart"
+        return self.out / "piles" / f"{pile_name(model, length, seed)}.restart"
+
+    def rebuild(self, name, variables, restart, recorded_row):
+        """Rebuild a recorded pile whose restart is gone, for the discharges
+        it still owes. Its line is written aside and compared with the
+        recorded one: another pile (a new binary or deck) fails the task,
+        and its restart is kept out of later runs."""
+        piles = self.out / "logs" / f"rebuild_{name}.txt"
+        piles.unlink(missing_ok=True)
+        seconds = self.liggghts("in.build", {**variables, "pile": restart, "piles": piles},
+                                self.out / "logs" / f"build_{name}.txt")
+        rebuilt = read_rows(piles)
+        problem = rebuilt_pile_problem(recorded_row, rebuilt[-1] if rebuilt else None)
+        if problem:
+            if restart.exists():
+                restart.rename(restart.with_name(restart.name + ".differs"))
+            raise RuntimeError(
+                f"{name} rebuilt is not the recorded pile ({problem}); its recorded "
+                f"discharges are of the recorded one: rerun the pile in a new --out "
+                f"(the rebuilt one is {restart.name}.differs)")
+        self.progress(f"rebuilt {name} in {seconds:.1f} s, the recorded pile "
+                      f"(n_pile {rebuilt[-1]['n_pile']}, h0 {rebuilt[-1]['h0']})")
 
     def task(self, model, length, seed, widths):
         """Build the pile if needed, then the discharges still missing."""
-        name = f"{model}_L{length:g}_s{seed}"
+        name = pile_name(model, length, seed)
         restart = self.restart_path(model, length, seed)
         variables = self.common_variables(model, length, seed)
-        key = (model, width_key(length), width_key(seed))
         recorded = [row for row in read_rows(self.piles_file)
-                    if row_key(row, ("model", "L", "seed")) == key]
+                    if row_key(row, ("model", "L", "seed")) == pile_key(model, length, seed)]
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
         missing = missing_widths(done, model, length, seed, widths)
         if needs_build(bool(recorded), restart.exists(), missing):
-            # a pile rebuilt for the discharges its lost restart still owes
-            # writes its line aside, to be compared with the recorded one
-            piles = self.out / "logs" / f"rebuild_{name}.txt" if recorded else self.piles_file
             if recorded:
-                piles.unlink(missing_ok=True)
-            seconds = self.liggghts("in.build", {**variables, "pile": restart, "piles": piles},
-                                    self.out / "logs" / f"build_{name}.txt")
-            if recorded:
-                rebuilt = read_rows(piles)
-                problem = rebuilt_pile_problem(recorded[-1], rebuilt[-1] if rebuilt else None)
-                if problem:
-                    # keep the restart of the other pile out of later runs
-                    if restart.exists():
-                        restart.rename(restart.with_name(restart.name + ".differs"))
-                    raise RuntimeError(
-                        f"{name} rebuilt is not the recorded pile ({problem}); its recorded "
-                        f"discharges are of the recorded one: rerun the pile in a new --out "
-                        f"(the rebuilt one is {restart.name}.differs)")
-                self.progress(f"rebuilt {name} in {seconds:.1f} s, the recorded pile "
-                              f"(n_pile {rebuilt[-1]['n_pile']}, h0 {rebuilt[-1]['h0']})")
+                self.rebuild(name, variables, restart, recorded[-1])
             else:
+                seconds = self.liggghts("in.build", {**variables, "pile": restart,
+                                                     "piles": self.piles_file},
+                                        self.out / "logs" / f"build_{name}.txt")
                 self.progress(f"built {name} in {seconds:.1f} s")
         for w in missing:
             seconds = self.liggghts("in.discharge", {**variables, "pile": restart, "w": w,
@@ -253,7 +268,7 @@ class Runner:
         self.total = 0
         for m, length, s in tasks:
             missing = missing_widths(done, m, length, s, a.widths)
-            self.total += len(missing) + needs_build((m, width_key(length), width_key(s)) in built,
+            self.total += len(missing) + needs_build(pile_key(m, length, s) in built,
                                                      self.restart_path(m, length, s).exists(), missing)
         print(f"pile2d driver: {len(tasks)} piles x {len(a.widths)} widths, "
               f"{self.total} runs to do, -j {a.jobs}, results in {self.results_file}", flush=True)

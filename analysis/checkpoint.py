@@ -104,10 +104,13 @@ def frames_before(lines, step):
     return kept
 
 
-def frames_in_cylinder(lines, radius, z_max):
+def frames_in_cylinder(lines, radius, z_max, *more):
     """The frames of a `dump custom` with x y z columns (9 header lines per
     frame), each with only the grains at r < radius and z < z_max (r about
-    the z axis); a frame cut short is dropped."""
+    the z axis), or inside any of the `more` cylinders, (radius, z_max)
+    pairs (the orifice region and the column over the axis, for the
+    fields and the axial acceleration); a frame cut short is dropped."""
+    cylinders = [(radius, z_max)] + [tuple(c) for c in more]
     kept, i = [], 0
     while i + 9 <= len(lines):
         head, n = lines[i:i + 9], int(lines[i + 3])
@@ -119,7 +122,8 @@ def frames_in_cylinder(lines, radius, z_max):
         inside = []
         for row in rows:
             words = row.split()
-            if float(words[iz]) < z_max and float(words[ix]) ** 2 + float(words[iy]) ** 2 < radius ** 2:
+            z, r2 = float(words[iz]), float(words[ix]) ** 2 + float(words[iy]) ** 2
+            if any(z < top and r2 < r ** 2 for r, top in cylinders):
                 inside.append(row)
         kept += head[:3] + [f"{len(inside)}\n"] + head[4:] + inside
         i += 9 + n
@@ -158,7 +162,8 @@ def remove_checkpoints(run_dir):
 
 def keep(run_dir, kept, dump_cylinder=None):
     """Writes into `kept` what the run needs to go on elsewhere from its last
-    checkpoint (the module's docstring); returns the checkpoint's step."""
+    checkpoint (the module's docstring); returns the checkpoint's step.
+    dump_cylinder: (R, Z) pairs; dump.cg keeps the grains inside any."""
     found = last_checkpoint(run_dir)
     if found is None:
         raise ValueError(f"{run_dir}: no checkpoint to keep")
@@ -175,7 +180,7 @@ def keep(run_dir, kept, dump_cylinder=None):
         with open(run_dir / "dump.cg") as handle:
             frames = frames_before(handle.readlines(), step)
         if dump_cylinder:
-            frames = frames_in_cylinder(frames, *dump_cylinder)
+            frames = frames_in_cylinder(frames, *dump_cylinder[0], *dump_cylinder[1:])
         with lzma.open(kept / "dump.cg.xz", "wt") as packed:
             packed.writelines(frames)
     with open(checkpoint, "rb") as source, lzma.open(kept / (checkpoint.name + ".xz"), "wb") as packed:
@@ -205,8 +210,9 @@ def main(argv=None):
     keeping = actions.add_parser("keep", help="the last checkpoint and the records up to it, into KEPT")
     keeping.add_argument("run_dir")
     keeping.add_argument("kept")
-    keeping.add_argument("--dump-cylinder", nargs=2, type=float, metavar=("R", "Z"),
-                         help="keep only the grains of dump.cg with r < R and z < Z (m)")
+    keeping.add_argument("--dump-cylinder", nargs=2, type=float, metavar=("R", "Z"), action="append",
+                         help="keep only the grains of dump.cg with r < R and z < Z (m); given again, "
+                              "the grains inside any of the cylinders")
     restoring = actions.add_parser("restore", help="unpack KEPT into a new RUN_DIR")
     restoring.add_argument("kept")
     restoring.add_argument("run_dir")

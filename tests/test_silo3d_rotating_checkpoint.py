@@ -228,6 +228,27 @@ def test_a_kept_run_restored_elsewhere_resumes_from_the_same_checkpoint(tmp_path
     assert checkpoint.main(["restore", str(kept), str(restored)]) == 2
 
 
+def test_a_kept_dump_holds_the_grains_of_any_of_its_cylinders(tmp_path):
+    """--dump-cylinder twice: the orifice region (r < 6 cm, z < 5 cm) and
+    the column over the axis (r < 2.5 cm, z < 20 cm) of the axial
+    acceleration; a grain in neither is dropped."""
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "run.txt").write_text("dt 0.001\nt_open 0\nN 4\nstep_open 0\n")
+    (run / "checkpoints.txt").write_text("100 checkpoint.100.restart\n")
+    (run / "checkpoint.100.restart").write_bytes(b"state")
+    # in the orifice region only, in the axis column only, in both, in neither
+    grains = "1 1 0.05 0 0.01\n2 1 0.02 0 0.15\n3 1 0 0 0.01\n4 1 0.05 0 0.15\n"
+    (run / "dump.cg").write_text(f"ITEM: TIMESTEP\n50\nITEM: NUMBER OF ATOMS\n4\nITEM: BOX BOUNDS ff ff ff\n"
+                                 f"-1 1\n-1 1\n0 1\nITEM: ATOMS id type x y z\n{grains}")
+    kept = tmp_path / "kept"
+    assert checkpoint.main(["keep", str(run), str(kept), "--dump-cylinder", "0.06", "0.05",
+                            "--dump-cylinder", "0.025", "0.2"]) == 0
+    checkpoint.restore(kept, tmp_path / "restored")
+    [(step, frame)] = read_dump(tmp_path / "restored" / "dump.cg")
+    assert step == 50 and list(frame["id"]) == [1, 2, 3]
+
+
 def test_keep_without_a_checkpoint_is_refused(tmp_path, capsys):
     (tmp_path / "run.txt").write_text("dt 0.001\n")
     assert checkpoint.main(["keep", str(tmp_path), str(tmp_path / "kept")]) == 2

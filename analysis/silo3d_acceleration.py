@@ -222,7 +222,8 @@ def plot_profiles(path, results, g):
     axes[0, 1].set_ylabel("<v_z> (m/s)")
     for ax in axes[0]:
         ax.set_xlabel("z / D")
-    axes[0, 0].legend(fontsize="x-small")
+    # the velocity panel's lower right is empty: a slow flow high up
+    axes[0, 1].legend(*axes[0, 0].get_legend_handles_labels(), fontsize="x-small", loc="lower right")
     return _save(fig, path)
 
 

@@ -75,9 +75,10 @@ class AxialProfile:
         return float(np.sqrt(self.velocity[-1] ** 2 - 2 * self.area))
 
 
-def grain_accelerations(a, b, interval, jump=JUMP):
+def grain_accelerations(a, b, interval, jump=JUMP, place="midpoint"):
     """(r, z, v_z, a_z, moved) of the grains in both frames a and b
-    (iter_dump columns), at the midpoint of their two positions: a_z =
+    (iter_dump columns), at the midpoint of their two positions (or, with
+    place="first", at the first; the paper does not say which): a_z =
     Δv_z/interval, v_z their mean; `moved` is true for those to be left
     out, whose displacement is more than `jump` from the one their
     velocities give (the deck moved them, or an impact stopped them)."""
@@ -85,8 +86,11 @@ def grain_accelerations(a, b, interval, jump=JUMP):
     za, zb = a["z"][ia], b["z"][ib]
     vza, vzb = a["vz"][ia], b["vz"][ib]
     moved = np.abs(zb - za - 0.5 * (vza + vzb) * interval) > jump
-    r = np.hypot(0.5 * (a["x"][ia] + b["x"][ib]), 0.5 * (a["y"][ia] + b["y"][ib]))
-    return r, 0.5 * (za + zb), 0.5 * (vza + vzb), (vzb - vza) / interval, moved
+    weight = {"midpoint": 0.5, "first": 0.0}[place]      # of the second position
+    x = (1 - weight) * a["x"][ia] + weight * b["x"][ib]
+    y = (1 - weight) * a["y"][ia] + weight * b["y"][ib]
+    z = (1 - weight) * za + weight * zb
+    return np.hypot(x, y), z, 0.5 * (vza + vzb), (vzb - vza) / interval, moved
 
 
 def window_frames(run, t_from, t_to):
@@ -119,7 +123,8 @@ def _integral(values, z):
     return np.sum(0.5 * (values[..., 1:] + values[..., :-1]) * np.diff(z), axis=-1)
 
 
-def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blocks=BLOCKS, jump=JUMP):
+def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blocks=BLOCKS, jump=JUMP,
+                  place="midpoint"):
     """AxialProfile of `run` (analysis.silo3d_records.Run) over the window;
     z_edges default to BINS_PER_D bins per D from the plate to Z_MAX_IN_D D.
     The frame pairs are split into `blocks` runs of consecutive pairs for
@@ -144,7 +149,7 @@ def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blo
     left_out, previous = 0, None
     for k, (step, columns) in enumerate(iter_dump(run.path / "dump.cg", once_each(steps))):
         if previous is not None:
-            r, z, vz, az, moved = grain_accelerations(previous, columns, interval, jump)
+            r, z, vz, az, moved = grain_accelerations(previous, columns, interval, jump, place)
             inside = (r < radius) & (z >= z_edges[0]) & (z < z_edges[-1])
             left_out += int(np.count_nonzero(inside & moved))
             inside &= ~moved
@@ -189,7 +194,11 @@ def parse_args(argv):
     parser.add_argument("--out", type=Path, required=True, help="output directory")
     parser.add_argument("--diameter", type=float, default=AXIS_DIAMETER,
                         help="diameter of the cylinder about the axis (m, default %(default)s)")
+    parser.add_argument("--z-min", type=float, default=0.0,
+                        help="bottom of the profile in D (default 0, the plate; the area starts there)")
     parser.add_argument("--z-max", type=float, default=Z_MAX_IN_D, help="top of the profile in D (default 3)")
+    parser.add_argument("--place", choices=("midpoint", "first"), default="midpoint",
+                        help="a grain's position: the midpoint of its two (default) or the first")
     parser.add_argument("--bins-per-D", type=int, default=BINS_PER_D, help="bins per D (default 10)")
     parser.add_argument("--blocks", type=int, default=BLOCKS, help="blocks for standard errors (default 10)")
     parser.add_argument("--jump", type=float, default=JUMP,
@@ -198,6 +207,8 @@ def parse_args(argv):
     args = parser.parse_args(argv)
     if not (args.diameter > 0 and args.z_max > 0 and args.bins_per_D > 0 and args.blocks > 0 and args.jump > 0):
         parser.error("--diameter, --z-max, --bins-per-D, --blocks and --jump must be positive")
+    if not 0 <= args.z_min < args.z_max:
+        parser.error(f"--z-min must be at least 0 and below --z-max, not {args.z_min:g}")
     return args
 
 
@@ -237,9 +248,11 @@ def main(argv=None):
             progress(f"ERROR: {run.path}: no dump.cg (the deck's dump_every_time)")
             return 2
         D = run.info["D"]
-        edges = np.linspace(0.0, args.z_max * D, int(round(args.z_max * args.bins_per_D)) + 1)
+        edges = np.linspace(args.z_min * D, args.z_max * D,
+                            int(round((args.z_max - args.z_min) * args.bins_per_D)) + 1)
         try:
-            profile = axial_profile(run, t_from, t_to, args.diameter / 2, edges, args.blocks, args.jump)
+            profile = axial_profile(run, t_from, t_to, args.diameter / 2, edges, args.blocks, args.jump,
+                                    args.place)
         except ValueError as error:
             progress(f"ERROR: {error}")
             return 2

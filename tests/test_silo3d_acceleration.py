@@ -69,6 +69,20 @@ def test_grains_at_a_constant_acceleration_give_it_in_every_bin(tmp_path):
     assert profile.area_se == pytest.approx(0.0, abs=1e-9)
 
 
+def test_a_grain_is_placed_at_its_midpoint_or_first_position():
+    """One grain from (0.01, 0, 0.10) at -0.8 m/s to (0.03, 0, 0.05) at
+    -1.2 m/s in 50 ms: a_z = -8 m/s^2, v_z -1 m/s, at z 0.075 and r 0.02
+    (midpoint) or z 0.1 and r 0.01 (first)."""
+    a = {"id": np.array([1.0]), "x": np.array([0.01]), "y": np.array([0.0]), "z": np.array([0.10]),
+         "vz": np.array([-0.8])}
+    b = {"id": np.array([1.0]), "x": np.array([0.03]), "y": np.array([0.0]), "z": np.array([0.05]),
+         "vz": np.array([-1.2])}
+    for place, (r_expected, z_expected) in {"midpoint": (0.02, 0.075), "first": (0.01, 0.10)}.items():
+        r, z, vz, az, moved = acc.grain_accelerations(a, b, 0.05, place=place)
+        np.testing.assert_allclose([r[0], z[0], vz[0], az[0]], [r_expected, z_expected, -1.0, -8.0], rtol=1e-12)
+        assert not moved[0]
+
+
 def test_a_window_of_part_of_the_run_takes_its_frames_only(tmp_path):
     run = load_run(write_constant_acceleration_run(tmp_path / "run"))
     profile = acc.axial_profile(run, 0.1, 0.3, blocks=2)
@@ -97,6 +111,17 @@ def test_cli_writes_the_profile_and_its_summary(tmp_path):
     assert summary["left_out"][0] == 1 and summary["frame_pairs"][0] == 10
     assert summary["area"][0] == pytest.approx(A * 0.174, rel=1e-7)
     assert (tmp_path / "out" / "axial_acceleration.png").stat().st_size > 0
+    # from 1 D up, grains at their first position: the same acceleration,
+    # bins from 1.05 D, the area over 1.05-2.95 D
+    assert acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "high"), "--z-min", "1",
+                     "--place", "first"]) == 0
+    table = read_table(tmp_path / "high" / "axial_acceleration.txt")
+    np.testing.assert_allclose(table["a_over_g"], A / 9.8, rtol=1e-7)
+    np.testing.assert_allclose(table["z_over_D"], 1 + (np.arange(20) + 0.5) / 10, rtol=1e-7)
+    summary = read_table(tmp_path / "high" / "axial_acceleration_summary.txt")
+    assert summary["area"][0] == pytest.approx(A * 1.9 * D, rel=1e-7)
+    with pytest.raises(SystemExit):
+        acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "bad"), "--z-min", "3"])
 
 
 def test_a_steady_flow_gives_its_exit_speed_from_the_area(tmp_path):

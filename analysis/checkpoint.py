@@ -16,6 +16,8 @@ interruption, this module
   read_restart), and the step and grain count at the opening, from run.txt.
 
     python3 -m analysis.checkpoint resume RUN_DIR   # cuts, prints "-var name value ..."
+    python3 -m analysis.checkpoint settle-resume PACKING_DIR
+                                                    # the same for a settling cut short
     python3 -m analysis.checkpoint clean RUN_DIR    # removes the checkpoint files
                                                     # (and LIGGGHTS' forced restart)
 
@@ -151,6 +153,19 @@ def resume_variables(run_dir):
             "n_open_resumed": int(run["N"]), "step_open_resumed": step_open}
 
 
+def settle_resume_variables(packing_dir):
+    """The deck variables that go on with a settling cut short, from its
+    last checkpoint (-var settle_checkpoint_every_time), or None without
+    one. A settling starts at step 0, so the checkpoint's step is the
+    number of steps settled; the settling writes no records to cut (they
+    start at the opening)."""
+    found = last_checkpoint(packing_dir)
+    if found is None:
+        return None
+    step, checkpoint = found
+    return {"settle_resume": 1, "checkpoint": str(checkpoint.resolve()), "settled_steps": step}
+
+
 def remove_checkpoints(run_dir):
     """Removes the checkpoints of a finished run, and the restart LIGGGHTS
     writes by itself when a signal stops it (restart_forced_liggghts_<step>
@@ -205,7 +220,7 @@ def restore(kept, run_dir):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     actions = parser.add_subparsers(dest="action", required=True)
-    for action in ("resume", "clean"):
+    for action in ("resume", "settle-resume", "clean"):
         actions.add_parser(action).add_argument("run_dir")
     keeping = actions.add_parser("keep", help="the last checkpoint and the records up to it, into KEPT")
     keeping.add_argument("run_dir")
@@ -231,7 +246,10 @@ def main(argv=None):
             print(f"checkpoint: {error}", file=sys.stderr)
             return 2
         return 0
-    variables = resume_variables(args.run_dir)
+    if args.action == "settle-resume":
+        variables = settle_resume_variables(args.run_dir)
+    else:
+        variables = resume_variables(args.run_dir)
     if variables:
         print(" ".join(f"-var {name} {value}" for name, value in variables.items()))
     return 0

@@ -92,6 +92,49 @@ def test_a_run_resumed_with_a_longer_discharge_time_goes_on_to_it_and_says_so(un
                                   whole["n_out"])      # the same run up to the old end
 
 
+SETTLE = {"inputs": ROOT / "inputs", "quick": 1, "shape": "rod", "settle_time": 0.25,
+          "settle_checkpoint_every_time": 0.1, "write_packing": 1, "write_poses": 1, "discharge_time": 0}
+
+
+def test_a_settling_resumed_from_its_checkpoint_ends_as_the_uninterrupted_one(tmp_path, liggghts_binary):
+    """The quick rods settle 0.25 s with a checkpoint every 0.1 s: two
+    chunks with a restart file after each, then the 0.05 s short of a
+    third. The settling resumed from its first checkpoint (what
+    settle-resume prints) writes the same packing: every rod's centre and
+    axis at the opening to the poses file's 15 digits; and the bottom
+    opens at 0.25 s, as in the run that was not cut."""
+    whole = tmp_path / "whole"
+    run_deck(whole, SETTLE)
+    listed = [line.split() for line in (whole / "checkpoints.txt").read_text().splitlines()]
+    steps = [int(step) for step, _ in listed]
+    chunk = round(0.1 / read_run_info(whole)["dt"])
+    assert steps == [chunk, 2 * chunk]
+
+    cut = tmp_path / "cut"
+    cut.mkdir()
+    shutil.copy(whole / f"checkpoint.{steps[0]}.restart", cut)
+    (cut / "checkpoints.txt").write_text(f"{steps[0]} checkpoint.{steps[0]}.restart\n")
+    variables = checkpoint.settle_resume_variables(cut)
+    assert variables == {"settle_resume": 1, "checkpoint": str((cut / f"checkpoint.{steps[0]}.restart").resolve()),
+                         "settled_steps": steps[0]}
+    run_deck(cut, {**SETTLE, **variables})
+    assert (cut / "poses.dump").read_text() == (whole / "poses.dump").read_text()
+    resumed, uncut = read_run_info(cut), read_run_info(whole)
+    assert resumed["step_open"] == uncut["step_open"] == round(0.25 / uncut["dt"])
+    assert resumed["t_open"] == uncut["t_open"]
+    np.testing.assert_allclose(read_table(cut / "discharge.txt")["t"], read_table(whole / "discharge.txt")["t"],
+                               rtol=0, atol=1e-12)
+    # nothing to resume from: settle-resume prints nothing
+    assert checkpoint.settle_resume_variables(tmp_path) is None
+
+
+def test_settle_resume_with_a_packing_read_is_refused_with_its_message(tmp_path, liggghts_binary):
+    from conftest import LiggghtsError
+    with pytest.raises(LiggghtsError) as error:
+        run_deck(tmp_path, {**SETTLE, "settle_resume": 1, "read_packing": 1, "checkpoint": "x"})
+    assert "settle_resume goes on with a settling" in error.value.output
+
+
 def test_the_resume_variables_come_from_the_last_checkpoint_on_disk_and_run_txt(tmp_path):
     (tmp_path / "run.txt").write_text("# run\ndt 0.001\nt_open 0.4\nN 900\nstep_open 400\nfinished 0.9\n")
     (tmp_path / "checkpoints.txt").write_text("500 checkpoint.500.restart\n600 checkpoint.600.restart\n")
@@ -183,6 +226,39 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     reinjected = read_table(run_dir / "reinject.txt")
     assert np.all(np.diff(reinjected["step"]) > 0) and np.all(np.diff(reinjected["n_out"]) > 0)
     assert (run_dir / "screen.txt").read_text().count("silo3d_rotating: done at") == 1
+
+
+def test_run_sh_killed_while_settling_goes_on_from_the_settling_s_checkpoint(tmp_path):
+    """SETTLE_CHECKPOINT: run.sh making the quick rods' packing (0.7 s of
+    settling, a checkpoint every 0.1 s), killed once the settling has a
+    checkpoint and started again, resumes the settling from it (the
+    settled steps of its last checkpoint), writes the packing and removes
+    the checkpoint files."""
+    environment = {**os.environ, "SILOKIT_LIGGGHTS": str(LIGGGHTS), "SHAPE": "rod", "DS": "", "FS": "",
+                   "SEEDS": "32452843", "SETTLE_CHECKPOINT": "0.1", "DECK_VARS": "quick 1"}
+    command = ["bash", str(ROOT / "examples" / "silo3d_rotating" / "run.sh"), str(tmp_path / "runs")]
+    packing_dir = tmp_path / "runs" / "packing_s32452843"
+    listing = packing_dir / "checkpoints.txt"
+    first = subprocess.Popen(command, env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                             start_new_session=True)
+    deadline = time.time() + 300
+    while not (listing.exists() and listing.read_text().strip()) and time.time() < deadline:
+        assert first.poll() is None, "run.sh ended before the settling's first checkpoint"
+        time.sleep(0.2)
+    os.killpg(first.pid, signal.SIGKILL)
+    first.wait()
+    assert not (packing_dir / "packing.restart").exists()
+    settled = checkpoint.last_checkpoint(packing_dir)[0]
+
+    second = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)
+    assert second.returncode == 0, second.stdout + second.stderr
+    assert f"resuming (-var settle_resume 1 -var checkpoint {packing_dir.resolve()}/checkpoint.{settled}.restart " \
+           f"-var settled_steps {settled})" in second.stdout
+    assert (packing_dir / "packing.restart").exists() and (packing_dir / "finished").exists()
+    assert not list(packing_dir.glob("checkpoint.*.restart"))
+    # the opening of the resumed settling is where the whole one's is
+    run = read_run_info(packing_dir)
+    assert run["step_open"] == round(0.7 / run["dt"])
 
 
 def test_a_kept_run_restored_elsewhere_resumes_from_the_same_checkpoint(tmp_path):

@@ -33,6 +33,11 @@
 #            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
 #   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900" [""]
 #   CHECKPOINT   s of discharge between checkpoints, 0: none      [0.25]
+#   SETTLE_CHECKPOINT  s of settling between checkpoints, 0: none   [0]
+#            (a settling cut short then goes on from its last one; a
+#            settling with checkpoints is another trajectory, at round-off,
+#            than one without, so the default keeps a seed's packing that
+#            of the kept packings, doc/data/silo3d_rods/packings)
 #   PEER_OF  clumps: a rod campaign's RUN_DIR (same ASPECT and SEEDS); each
 #            clump packing is then that seed's rod packing with a clump on
 #            every rod (write_poses, read_poses: fix insert/poses), relaxed
@@ -55,6 +60,7 @@ SHAPE="${SHAPE:-sphere}"
 ASPECT="${ASPECT:-3.3}"
 REINJECT="${REINJECT:-1}"
 CHECKPOINT="${CHECKPOINT:-0.25}"
+SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0}"
 if [ "$SHAPE" = clump ]; then REINJECT=0; FIELDS=""; fi
 LIGGGHTS="${SILOKIT_LIGGGHTS:-$ROOT/build/bin/liggghts}"
 # line-buffered output: progress reaches screen.txt as it happens, and a
@@ -96,13 +102,23 @@ settle() {   # one packing per seed
         -var poses rod_poses.dump -var settle_time "$RELAX" -var write_packing 1 -var discharge_time 0 \
         > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
   else
-    log "settling the packing of seed $seed in $dir"
+    local resume=""
+    [ "$SETTLE_CHECKPOINT" = 0 ] || resume=$(analysis analysis.checkpoint settle-resume "$dir")
+    if [ -n "$resume" ]; then
+      log "settling the packing of seed $seed in $dir: resuming ($resume)"
+    else
+      log "settling the packing of seed $seed in $dir"
+      : > "$dir/screen.txt"
+    fi
+    # $resume: "-var name value" words, none with spaces
     (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var write_packing 1 \
-        -var discharge_time 0 > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
+        -var discharge_time 0 -var settle_checkpoint_every_time "$SETTLE_CHECKPOINT" $resume >> screen.txt 2>&1) \
+        || { log "FAILED: see $dir/screen.txt"; return 1; }
   fi
   # (a settling stopped by SIGINT/SIGTERM ends with status 0 but no packing)
-  [ -f "$dir/packing.restart" ] || { log "seed $seed: stopped before its packing was written; the same command settles it again"; return 1; }
+  [ -f "$dir/packing.restart" ] || { log "seed $seed: stopped before its packing was written; the same command settles it again (from its last checkpoint, with SETTLE_CHECKPOINT)"; return 1; }
   touch "$dir/finished"
+  analysis analysis.checkpoint clean "$dir"
 }
 
 wants_fields() {

@@ -58,7 +58,7 @@ class AxialProfile:
     counts: np.ndarray             # grain-pairs per bin
     pairs: int                     # frame pairs
     interval: float                # their spacing Δt_p (s)
-    left_out: int                  # grain pairs with their midpoint in the cylinder left out (moved by the deck or an impact)
+    left_out: int                  # grain pairs in the cylinder left out (moved by the deck or an impact)
     blocks: int
     area: float                    # integral of a_eff dz between the first and last bin centres (m^2/s^2)
     area_se: float
@@ -259,7 +259,8 @@ def main(argv=None):
         label = run_label(run, t_from, t_to)
         progress(f"{label}: {profile.pairs} frame pairs {profile.interval:.4g} s apart, "
                  f"{int(profile.counts.sum())} grain pairs in the cylinder, {profile.left_out} more "
-                 f"left out (moved by the deck or an impact); area {profile.area:.4g} +- {profile.area_se:.2g} m^2/s^2, "
+                 f"left out (moved by the deck or an impact); area {profile.area:.4g} +- "
+                 f"{profile.area_se:.2g} m^2/s^2, "
                  f"exit speed from it {profile.exit_speed_from_area:.3g} m/s against "
                  f"{-profile.velocity[0]:.3g} m/s measured")
         results.append((label, run, profile))
@@ -268,8 +269,8 @@ def main(argv=None):
             for (label, run, p), (_, t_from, t_to) in zip(results, args.runs)
             for z, a, a_se, v, v_se, n in zip(p.z, p.acceleration, p.acceleration_se, p.velocity,
                                               p.velocity_se, p.counts)]
-    write_table(args.out / "axial_acceleration", ["f", "D", "seed", "t_from", "t_to", "z", "z_over_D", "a_over_g", "a_over_g_se", "v_z",
-                                                  "v_z_se", "grain_pairs"], rows,
+    write_table(args.out / "axial_acceleration", ["f", "D", "seed", "t_from", "t_to", "z", "z_over_D", "a_over_g",
+                                                  "a_over_g_se", "v_z", "v_z_se", "grain_pairs"], rows,
                 f"a_eff(z) = <dv_z/dt_p> in a cylinder of diameter {args.diameter:g} m about the axis "
                 f"(analysis.silo3d_acceleration); standard errors from {args.blocks} blocks of frame pairs")
     summary = [[run.info["f"], run.info["D"], run.info["seed"], t_from, t_to, p.pairs, p.interval,

@@ -65,7 +65,7 @@ class AxialProfile:
 
     @property
     def z(self):
-        return 0.5 * (self.z_edges[1:] + self.z_edges[:-1])
+        return _centres(self.z_edges)
 
     @property
     def exit_speed_from_area(self):
@@ -73,6 +73,15 @@ class AxialProfile:
         area: v² = v_top² − 2 ∫ a_eff dz (steady flow along the axis,
         the fluctuations' part left out)."""
         return float(np.sqrt(self.velocity[-1] ** 2 - 2 * self.area))
+
+
+def profile_edges(D, z_min=0.0, z_max=Z_MAX_IN_D, bins_per_D=BINS_PER_D):
+    """Bin edges from z_min D to z_max D, bins_per_D bins per D."""
+    return np.linspace(z_min * D, z_max * D, int(round((z_max - z_min) * bins_per_D)) + 1)
+
+
+def _centres(edges):
+    return 0.5 * (edges[1:] + edges[:-1])
 
 
 def grain_accelerations(a, b, interval, jump=JUMP, place="midpoint"):
@@ -126,12 +135,12 @@ def _integral(values, z):
 def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blocks=BLOCKS, jump=JUMP,
                   place="midpoint"):
     """AxialProfile of `run` (analysis.silo3d_records.Run) over the window;
-    z_edges default to BINS_PER_D bins per D from the plate to Z_MAX_IN_D D.
+    z_edges default to profile_edges(D): BINS_PER_D bins per D from the
+    plate to Z_MAX_IN_D D.
     The frame pairs are split into `blocks` runs of consecutive pairs for
     the standard errors."""
-    D = run.info["D"]
     if z_edges is None:
-        z_edges = np.linspace(0.0, Z_MAX_IN_D * D, int(round(Z_MAX_IN_D * BINS_PER_D)) + 1)
+        z_edges = profile_edges(run.info["D"])
     steps, tau = window_frames(run, t_from, t_to)
     if steps.size < 2:
         raise ValueError(f"{run.path}: {steps.size} dump frame(s) in {t_from:g}-{t_to:g} s since the "
@@ -163,7 +172,7 @@ def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blo
         previous = columns
     acceleration, acceleration_se = _block_mean_se(a_sum, count)
     velocity, velocity_se = _block_mean_se(v_sum, count)
-    centres = 0.5 * (z_edges[1:] + z_edges[:-1])
+    centres = _centres(z_edges)
     with np.errstate(invalid="ignore", divide="ignore"):
         block_areas = _integral(a_sum / count, centres)
     good = np.isfinite(block_areas)
@@ -247,9 +256,7 @@ def main(argv=None):
         if not (run.path / "dump.cg").exists():
             progress(f"ERROR: {run.path}: no dump.cg (the deck's dump_every_time)")
             return 2
-        D = run.info["D"]
-        edges = np.linspace(args.z_min * D, args.z_max * D,
-                            int(round((args.z_max - args.z_min) * args.bins_per_D)) + 1)
+        edges = profile_edges(run.info["D"], args.z_min, args.z_max, args.bins_per_D)
         try:
             profile = axial_profile(run, t_from, t_to, args.diameter / 2, edges, args.blocks, args.jump,
                                     args.place)

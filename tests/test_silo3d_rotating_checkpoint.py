@@ -27,15 +27,15 @@ import pytest
 from analysis import checkpoint
 from analysis.lammps_io import read_dump, read_table
 from analysis.silo3d_records import read_run_info
-from conftest import LIGGGHTS, ROOT, run_liggghts
+from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
 QUICK = {"inputs": ROOT / "inputs", "quick": 1, "reinject": 1, "f": 0.32, "dump_every_time": 0.05,
          "checkpoint_every_time": 0.1, "discharge_time": 0.3}
 
 
-def run_deck(workdir, variables):
-    return run_liggghts(f"include {DECK}\n", workdir, variables=variables)
+def run_deck(workdir, variables, nprocs=1):
+    return run_liggghts(f"include {DECK}\n", workdir, nprocs=nprocs, variables=variables)
 
 
 @pytest.fixture(scope="module")
@@ -96,15 +96,19 @@ SETTLE = {"inputs": ROOT / "inputs", "quick": 1, "shape": "rod", "settle_time": 
           "settle_checkpoint_every_time": 0.1, "write_packing": 1, "write_poses": 1, "discharge_time": 0}
 
 
-def test_a_settling_resumed_from_its_checkpoint_ends_as_the_uninterrupted_one(tmp_path, liggghts_binary):
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.skipif(not has_mpirun(),
+                                                                               reason="mpirun not available"))])
+def test_a_settling_resumed_from_its_checkpoint_ends_as_the_uninterrupted_one(tmp_path, liggghts_binary, nprocs):
     """The quick rods settle 0.25 s with a checkpoint every 0.1 s: two
     chunks with a restart file after each, then the 0.05 s short of a
     third. The settling resumed from its first checkpoint (what
     settle-resume prints) writes the same packing: every rod's centre and
     axis at the opening to the poses file's 15 digits; and the bottom
-    opens at 0.25 s, as in the run that was not cut."""
+    opens at 0.25 s, as in the run that was not cut. On one rank and on
+    two (each run and its resumption on the same count: a restart file
+    read on two ranks spreads the rods over both)."""
     whole = tmp_path / "whole"
-    run_deck(whole, SETTLE)
+    run_deck(whole, SETTLE, nprocs)
     listed = [line.split() for line in (whole / "checkpoints.txt").read_text().splitlines()]
     steps = [int(step) for step, _ in listed]
     chunk = round(0.1 / read_run_info(whole)["dt"])
@@ -117,7 +121,7 @@ def test_a_settling_resumed_from_its_checkpoint_ends_as_the_uninterrupted_one(tm
     variables = checkpoint.settle_resume_variables(cut)
     assert variables == {"settle_resume": 1, "checkpoint": str((cut / f"checkpoint.{steps[0]}.restart").resolve()),
                          "settled_steps": steps[0]}
-    run_deck(cut, {**SETTLE, **variables})
+    run_deck(cut, {**SETTLE, **variables}, nprocs)
     assert (cut / "poses.dump").read_text() == (whole / "poses.dump").read_text()
     resumed, uncut = read_run_info(cut), read_run_info(whole)
     assert resumed["step_open"] == uncut["step_open"] == round(0.25 / uncut["dt"])

@@ -17,6 +17,7 @@ CLI:  python3 -m analysis.silo3d_rotating RUN_DIR [RUN_DIR ...] --out DIR [optio
 # orifice averages).
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
@@ -287,6 +288,9 @@ def plot_orifice_vs_f(path, groups, names, labels):
 
 # ---------------------------------------------------------------- CLI
 
+# frequencies as run.txt prints them (the deck's -var f): equal within round-off
+FREQUENCY_TOLERANCE = 1e-9
+
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -297,6 +301,9 @@ def parse_args(argv):
     flow = parser.add_argument_group("flow rate")
     flow.add_argument("--transient", type=float, default=TRANSIENT,
                       help="start transient left out after the opening (s, default %(default)s)")
+    flow.add_argument("--transient-at", nargs=2, type=float, action="append", default=[], metavar=("F", "T"),
+                      help="leave out T s instead at the frequency F (Hz); may be repeated. For runs "
+                           "whose transient lasts a part of a turn of the bottom, not a fixed time")
     flow.add_argument("--gap", type=float, default=MIN_GAP,
                       help="no-flow intervals longer than this are cut from the time base (s, default %(default)s)")
     flow.add_argument("--min-flowing-fraction", type=float, default=MIN_FLOWING_FRACTION,
@@ -328,7 +335,24 @@ def parse_args(argv):
     args = parser.parse_args(argv)
     if not args.window_width > 0:
         parser.error(f"--window-width must be > 0 s, not {args.window_width:g}")
+    if not args.transient >= 0:
+        parser.error(f"--transient must be >= 0 s, not {args.transient:g}")
+    frequencies = [f for f, _ in args.transient_at]
+    for f, t in args.transient_at:
+        if not (f >= 0 and t >= 0):
+            parser.error(f"--transient-at {f:g} {t:g}: the frequency and the time must be >= 0")
+        if sum(math.isclose(f, other, abs_tol=FREQUENCY_TOLERANCE) for other in frequencies) > 1:
+            parser.error(f"--transient-at: the frequency {f:g} Hz is given more than once")
     return args
+
+
+def transient_of(run, args):
+    """The seconds after the opening left out of this run's window: those
+    of --transient-at for its frequency, else --transient."""
+    for f, t in args.transient_at:
+        if math.isclose(run.info["f"], f, abs_tol=FREQUENCY_TOLERANCE):
+            return t
+    return args.transient
 
 
 def field_settings(args, run, first_masses):
@@ -380,7 +404,7 @@ def main(argv=None):
         return 1
     for run, label in zip(runs, run_labels(runs)):
         run.label = label
-        flow = analyse_flow(run, args.transient, args.gap, args.end_fraction, args.blocks,
+        flow = analyse_flow(run, transient_of(run, args), args.gap, args.end_fraction, args.blocks,
                             args.min_flowing_fraction)
         if flow.stationary:
             progress(f"{label}: Q = {flow.q_mass:.5g} +- {flow.q_mass_se:.2g} kg/s = {flow.q_grains:.5g} "

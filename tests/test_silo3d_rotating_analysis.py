@@ -591,3 +591,33 @@ def test_q_of_d_without_any_flow_is_an_empty_plot_not_an_error(tmp_path):
     for log_q_axis_only in (False, True):
         path = silo.plot_q_vs_D(tmp_path / f"q_{log_q_axis_only}.png", groups, {}, 0.0099, log_q_axis_only)
         assert Path(path).stat().st_size > 0
+
+
+def test_a_window_per_frequency_with_transient_at(tmp_path, capsys):
+    # the same flow at f = 0 and 0.64 Hz: 40 grains/s for 12 s with no exit
+    # in (2.0, 2.5) (0.5 s, shorter than --gap: kept in the time base).
+    # --transient 4 --transient-at 0.64 1: the run at rest is counted over
+    # [4, 12] (40/s, the gap left out), the one at 0.64 Hz over [1, 12],
+    # 11 s with 440 - 20 exits, by hand
+    runs = [tmp_path / "f0", tmp_path / "f0.64"]
+    write_run(runs[0], 0.0, 0.05, 1, 40.0, gaps=[(2.0, 2.5)])
+    write_run(runs[1], 0.64, 0.05, 1, 40.0, gaps=[(2.0, 2.5)])
+    out = tmp_path / "out"
+    assert silo.main([*map(str, runs), "--out", str(out), "--no-fields", "--transient", "4",
+                      "--transient-at", "0.64", "1"]) == 0
+    per_run = read_table(out / "flow_rate_runs.txt")
+    assert per_run["f"].tolist() == [0.0, 0.64]
+    assert per_run["t_start"] == pytest.approx([4.0, 1.0], abs=1e-9)
+    assert per_run["Q_grains_s"] == pytest.approx([40.0, 420 / 11], rel=1e-7)     # the table's 8 digits
+    change = read_table(out / "flow_rate_change.txt")
+    assert change["change"] == pytest.approx([420 / 11 / 40 - 1], rel=1e-6)
+    # without it, both over [4, 12]
+    assert silo.main([*map(str, runs), "--out", str(tmp_path / "same"), "--no-fields", "--transient", "4"]) == 0
+    assert read_table(tmp_path / "same" / "flow_rate_runs.txt")["Q_grains_s"] == pytest.approx([40.0, 40.0])
+    # refused: a negative time, a frequency given twice
+    for bad in (["--transient-at", "0.64", "-1"], ["--transient-at", "0.64", "1", "--transient-at", "0.64", "2"],
+                ["--transient", "-0.5"]):
+        with pytest.raises(SystemExit):
+            silo.parse_args([str(runs[0]), "--out", str(out), *bad])
+    error = capsys.readouterr().err
+    assert "the frequency 0.64 Hz is given more than once" in error and "--transient must be >= 0 s" in error

@@ -10,6 +10,9 @@ test_silo3d_rotating_checkpoint.py.)
 import os
 import subprocess
 
+import numpy as np
+import pytest
+
 from analysis.lammps_io import read_dump, read_table
 from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT
@@ -54,3 +57,57 @@ def test_peer_of_places_a_clump_on_every_rod_of_the_rods_packing(tmp_path):
 def test_peer_of_needs_clumps(tmp_path):
     result = campaign(tmp_path / "rods", SHAPE="rod", PEER_OF=str(tmp_path))
     assert result.returncode == 2 and "PEER_OF places clumps on rods" in result.stderr
+
+
+def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
+    """PACKINGS: a seed whose packing is kept (xz, with its settling's
+    run.txt) is unpacked, not settled, byte for byte; DISCHARGE_AT and
+    TRANSIENT_AT: each frequency's run lasts its own time and its Q leaves
+    out its own transient. A kept packing of other rods is refused."""
+    settled = campaign(tmp_path / "rods", SHAPE="rod", FS="", DECK_VARS="quick 1 settle_time 0.3")
+    assert settled.returncode == 0, settled.stdout + settled.stderr
+    packing = tmp_path / "rods" / "packing_s32452843"
+    kept = tmp_path / "kept"
+    kept.mkdir()
+    with open(kept / "packing_s32452843.restart.xz", "wb") as archive:
+        subprocess.run(["xz", "-c", str(packing / "packing.restart")], stdout=archive, check=True)
+    (kept / "packing_s32452843_run.txt").write_bytes((packing / "run.txt").read_bytes())
+
+    run_dir = tmp_path / "campaign"
+    result = campaign(run_dir, SHAPE="rod", FS="0 0.32", PACKINGS=str(kept), DISCHARGE="0.1",
+                      DISCHARGE_AT="0.32 0.2", TRANSIENT="0.05", TRANSIENT_AT="0.32 0.15",
+                      DECK_VARS="quick 1 settle_time 0.3")
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "settling" not in result.stdout and "the kept one" in result.stdout
+    assert (run_dir / "packing_s32452843" / "packing.restart").read_bytes() == \
+        (packing / "packing.restart").read_bytes()
+    for f, until in (("0", 0.1), ("0.32", 0.2)):
+        info = read_run_info(run_dir / f"D0.05_f{f}_s32452843")
+        # the deck's last line, the time it stopped at: `until` after the opening, to a step
+        assert info["discharge_time"] == until and info["finished"] == pytest.approx(until, abs=2 * info["dt"])
+        # its records every 0.01 s to the end
+        assert until - 0.01 < read_table(run_dir / f"D0.05_f{f}_s32452843" / "discharge.txt")["t"][-1] <= until
+    runs = read_table(run_dir / "analysis" / "flow_rate_runs.txt")
+    assert sorted(runs["f"].tolist()) == [0.0, 0.32]
+    rest, turning = np.flatnonzero(runs["f"] == 0)[0], np.flatnonzero(runs["f"] == 0.32)[0]
+    # the first sample at or after each transient (samples every 0.01 s), the last one
+    assert 0.05 <= runs["t_start"][rest] < 0.06 and 0.15 <= runs["t_start"][turning] < 0.16
+    assert runs["t_end"][rest] == pytest.approx(0.1, abs=0.01) and runs["t_end"][turning] == pytest.approx(0.2, abs=0.01)
+
+    other = campaign(tmp_path / "longer", SHAPE="rod", ASPECT="4.0", PACKINGS=str(kept), DECK_VARS="quick 1")
+    assert other.returncode != 0
+    assert "holds shape rod, aspect 3.3" in other.stdout and "not SHAPE=rod ASPECT=4.0" in other.stdout
+    assert not (tmp_path / "longer" / "packing_s32452843" / "packing.restart").exists()
+
+
+@pytest.mark.parametrize("environment, message", [
+    ({"DISCHARGE_AT": "0.5 1"}, "DISCHARGE_AT: 0.5 is not one of FS"),
+    ({"DISCHARGE_AT": "0.32"}, "DISCHARGE_AT needs \"f T\" pairs"),
+    ({"TRANSIENT_AT": "0.32 x"}, "TRANSIENT_AT: 0.32 needs a time >= 0 in s, not 'x'"),
+    ({"TRANSIENT_AT": "0.32 1 0.32 2"}, "TRANSIENT_AT: 0.32 is given more than once"),
+    ({"PACKINGS": "/nonexistent"}, "PACKINGS: no directory /nonexistent"),
+])
+def test_bad_per_frequency_settings_and_packings_are_refused(tmp_path, environment, message):
+    result = campaign(tmp_path / "runs", SHAPE="rod", FS="0 0.32", **environment)
+    assert result.returncode == 2 and message in result.stderr, result.stderr
+    assert not list((tmp_path / "runs").glob("*"))

@@ -23,6 +23,16 @@
 #   DT_FRACTION  dt = t_c/DT_FRACTION        [40]
 #   DISCHARGE    simulated seconds after the opening [2.0]
 #   TRANSIENT    seconds after the opening left out of Q [0.5]
+#   DISCHARGE_AT "f T" pairs: at the frequency f (one of FS, as written
+#            there) the discharge lasts T s instead of DISCHARGE      [""]
+#   TRANSIENT_AT "f T" pairs: at the frequency f, T s are left out of Q
+#            instead of TRANSIENT (the analysis's --transient-at)     [""]
+#            (a transient that lasts a part of a turn of the bottom is
+#            shorter at faster f, and so can the runs be)
+#   PACKINGS a directory of kept packings, packing_s<seed>.restart.xz or
+#            packing_s<seed>.restart (doc/data/silo3d_rods/packings): a
+#            seed found there is unpacked instead of settled, once its
+#            packing_s<seed>_run.txt says the same SHAPE and ASPECT  [""]
 #   FIELDS   "D f" pairs whose runs also dump grains and contacts for the
 #            coarse-grained fields            ["0.06 0 0.06 0.32 0.06 1.28"]
 #   JOBS     runs at once (serial LIGGGHTS processes) [1]
@@ -54,6 +64,9 @@ SEEDS="${SEEDS:-32452843}"
 DT_FRACTION="${DT_FRACTION:-40}"
 DISCHARGE="${DISCHARGE:-2.0}"
 TRANSIENT="${TRANSIENT:-0.5}"
+DISCHARGE_AT="${DISCHARGE_AT:-}"
+TRANSIENT_AT="${TRANSIENT_AT:-}"
+PACKINGS="${PACKINGS:-}"
 FIELDS="${FIELDS-0.06 0 0.06 0.32 0.06 1.28}"
 JOBS="${JOBS:-1}"
 SHAPE="${SHAPE:-sphere}"
@@ -84,6 +97,34 @@ set -- ${DECK_VARS:-}
 while [ $# -ge 2 ]; do BASE+=(-var "$1" "$2"); shift 2; done
 COMMON=("${BASE[@]}" -var shape "$SHAPE")
 
+value_at() {   # value_at KEY DEFAULT "k v k v ...": the v of the pair whose k is KEY, else DEFAULT
+  local key=$1 value=$2
+  set -- $3
+  while [ $# -ge 2 ]; do [ "$1" = "$key" ] && value=$2; shift 2; done
+  echo "$value"
+}
+check_pairs() {  # NAME "f T ...": pairs, each f one of FS and given once, each T a number >= 0
+  local name=$1 list=$2 f seen=" " found
+  set -- $list
+  [ $(( $# % 2 )) -eq 0 ] || { echo "run.sh: $name needs \"f T\" pairs, got: $list" >&2; exit 2; }
+  while [ $# -ge 2 ]; do
+    found=0
+    for f in $FS; do [ "$f" = "$1" ] && found=1; done
+    [ $found = 1 ] || { echo "run.sh: $name: $1 is not one of FS ($FS), written as there" >&2; exit 2; }
+    case "$seen" in *" $1 "*) echo "run.sh: $name: $1 is given more than once" >&2; exit 2 ;; esac
+    seen="$seen$1 "
+    [[ "$2" =~ ^[0-9]+([.][0-9]*)?$ ]] || { echo "run.sh: $name: $1 needs a time >= 0 in s, not '$2'" >&2; exit 2; }
+    shift 2
+  done
+}
+check_pairs DISCHARGE_AT "$DISCHARGE_AT"
+check_pairs TRANSIENT_AT "$TRANSIENT_AT"
+TRANSIENT_ARGS=()
+set -- $TRANSIENT_AT
+while [ $# -ge 2 ]; do TRANSIENT_ARGS+=(--transient-at "$1" "$2"); shift 2; done
+[ -z "$PACKINGS" ] || [ -d "$PACKINGS" ] || { echo "run.sh: PACKINGS: no directory $PACKINGS" >&2; exit 2; }
+[ -z "$PACKINGS" ] || [ -z "$PEER_OF" ] || { echo "run.sh: PEER_OF makes the clumps' packings from the rods': no PACKINGS with it" >&2; exit 2; }
+
 mkdir -p "$RUN_DIR"
 log() { echo "[$(date +%H:%M:%S)] silo3d_rotating: $*"; }
 
@@ -91,6 +132,24 @@ settle() {   # one packing per seed
   local seed=$1 dir="$RUN_DIR/packing_s$1"
   [ -f "$dir/finished" ] && return 0
   mkdir -p "$dir"
+  local kept="$PACKINGS/packing_s$seed.restart"
+  if [ -n "$PACKINGS" ] && [ -f "$kept.xz" -o -f "$kept" ]; then
+    # a restart file does not say what it holds: its settling's run.txt does
+    local info="$PACKINGS/packing_s${seed}_run.txt" shape aspect
+    [ -f "$info" ] || { log "FAILED: $info, the kept packing's parameters, is missing"; return 1; }
+    shape=$(awk '$1 == "shape" { print $2 }' "$info"); aspect=$(awk '$1 == "aspect" { print $2 }' "$info")
+    if [ "$shape" != "$SHAPE" ] || { [ "$SHAPE" != sphere ] && ! awk -v a="$aspect" -v b="$ASPECT" 'BEGIN { exit !(a + 0 == b + 0) }'; }; then
+      log "FAILED: the kept packing of seed $seed holds shape $shape, aspect $aspect ($info), not SHAPE=$SHAPE ASPECT=$ASPECT"
+      return 1
+    fi
+    if [ -f "$kept.xz" ]; then xz -dc "$kept.xz" > "$dir/packing.restart.part"; else cp "$kept" "$dir/packing.restart.part"; fi
+    mv "$dir/packing.restart.part" "$dir/packing.restart"
+    cp "$info" "$dir/run.txt"
+    log "packing of seed $seed: the kept one, $kept$([ -f "$kept.xz" ] && echo .xz)"
+    touch "$dir/finished"
+    return 0
+  fi
+  [ -z "$PACKINGS" ] || log "seed $seed: no kept packing in $PACKINGS, settled here"
   if [ -n "$PEER_OF" ]; then
     local rods="$PEER_OF/packing_s$seed/packing.restart"
     [ -f "$rods" ] || { log "FAILED: no rod packing $rods (PEER_OF)"; return 1; }
@@ -132,7 +191,8 @@ wants_fields() {
 }
 
 discharge() {  # one (D, f, seed) run
-  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start resume
+  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start resume until
+  until=$(value_at "$f" "$DISCHARGE" "$DISCHARGE_AT")
   [ -f "$dir/finished" ] && { log "D $D f $f seed $seed: done before, skipped"; return 0; }
   mkdir -p "$dir"
   wants_fields "$D" "$f" && dump=0.05
@@ -142,13 +202,13 @@ discharge() {  # one (D, f, seed) run
   if [ -n "$resume" ]; then
     log "D $D f $f seed $seed: resuming ($resume)"
   else
-    log "D $D f $f seed $seed: running (dumps every $dump s)"
+    log "D $D f $f seed $seed: running $until s (dumps every $dump s)"
     : > "$dir/screen.txt"
   fi
   # $resume: "-var name value" words, none with spaces
   (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
       -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject "$REINJECT" -var D "$D" -var f "$f" \
-      -var discharge_time "$DISCHARGE" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
+      -var discharge_time "$until" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
       $resume >> screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
   # LIGGGHTS ends a run it got SIGINT or SIGTERM for with exit status 0
@@ -174,4 +234,5 @@ done
 wait
 if [ -z "$DS" ] || [ -z "$FS" ]; then log "packings made (no D or f given: no runs)"; exit 0; fi
 log "all runs done; analysing"
-analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT"
+analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT" \
+    "${TRANSIENT_ARGS[@]}"

@@ -342,35 +342,65 @@ def flow_groups(runs, level=CONFIDENCE):
     return rows
 
 
+def paired_ratio(runs, f, f_ref, D, level=CONFIDENCE):
+    """Q(f)/Q(f_ref) at the orifice D, paired by seed (the runs of one seed
+    start from the same packing, so their ratio is freer of the packing's
+    own noise than the ratio of the means): (mean, se, CI half width, n)
+    over the seeds that have both runs with a finite Q (the reference's
+    > 0), as in seed_mean_ci: from the spread of the per-seed ratios for
+    n >= 2; for one seed from the two runs' block standard errors,
+    propagated, with the smaller of their degrees of freedom. n = 0: NaNs."""
+    reference = {r.info["seed"]: r for r in runs if r.key == (f_ref, D)
+                 and np.isfinite(r.flow.q_mass) and r.flow.q_mass > 0}
+    ratios, ses, dofs = [], [], []
+    for run in runs:
+        ref = reference.get(run.info["seed"])
+        if run.key != (f, D) or ref is None or not np.isfinite(run.flow.q_mass):
+            continue
+        ratio = run.flow.q_mass / ref.flow.q_mass
+        ratios.append(ratio)
+        ses.append(ratio * np.hypot(run.flow.q_mass_se / run.flow.q_mass if run.flow.q_mass > 0 else np.nan,
+                                    ref.flow.q_mass_se / ref.flow.q_mass))
+        dofs.append(min(run.flow.blocks, ref.flow.blocks) - 1)
+    if not ratios:
+        return np.nan, np.nan, np.nan, 0
+    return (*seed_mean_ci(ratios, ses, dofs, level), len(ratios))
+
+
 def flow_changes(runs, level=CONFIDENCE):
     """Rows per (f, D) with f > 0: the relative change of Q from f = 0,
-    Q(f)/Q(0) - 1, paired by seed (the runs of one seed start from the same
-    packing, so their difference is freer of the packing's own noise than
-    the difference of the means). The mean over the seeds that have both
-    runs, its standard error and CI half width as in seed_mean_ci: from the
-    spread of the per-seed changes for n >= 2; for one seed from the two
-    runs' block standard errors, propagated, with the smaller of their
-    degrees of freedom."""
-    at_rest = {(r.key[1], r.info["seed"]): r for r in runs
-               if r.key[0] == 0.0 and np.isfinite(r.flow.q_mass) and r.flow.q_mass > 0}
+    Q(f)/Q(0) - 1, paired by seed (paired_ratio)."""
     rows = []
-    for (f, D), members in group_by_key(runs).items():
+    for f, D in group_by_key(runs):
         if f == 0.0:
             continue
-        changes, ses, dofs = [], [], []
-        for run in members:
-            rest = at_rest.get((D, run.info["seed"]))
-            if rest is None or not np.isfinite(run.flow.q_mass):
-                continue
-            ratio = run.flow.q_mass / rest.flow.q_mass
-            changes.append(ratio - 1.0)
-            ses.append(ratio * np.hypot(run.flow.q_mass_se / run.flow.q_mass,
-                                        rest.flow.q_mass_se / rest.flow.q_mass))
-            dofs.append(min(run.flow.blocks, rest.flow.blocks) - 1)
-        if changes:
-            mean, se, half = seed_mean_ci(changes, ses, dofs, level)
-            rows.append({"f": f, "D": D, "n": len(changes), "change": mean, "change_se": se,
-                         "change_ci": half})
+        ratio, se, half, n = paired_ratio(runs, f, 0.0, D, level)
+        if n:
+            rows.append({"f": f, "D": D, "n": n, "change": ratio - 1.0, "change_se": se, "change_ci": half})
+    return rows
+
+
+def drop_and_recovery(runs, groups, level=CONFIDENCE):
+    """The paper's Fig. 3, per orifice D with runs at rest and turning:
+    (a) the drop, Q_min/Q(0), where Q_min is the Q of the frequency f_min
+    whose mean over seeds is the lowest (f > 0); (b) the recovery,
+    Q(f_max)/Q_min, f_max the fastest frequency (the paper's 1.28 Hz).
+    Both paired by seed (paired_ratio). f_min is picked from the same
+    means, so with noisy means Q_min/Q(0) leans low: a sharp minimum
+    within the intervals is not one."""
+    rows = []
+    for D in sorted({g["D"] for g in groups}):
+        turning = [g for g in groups if g["D"] == D and g["f"] > 0 and np.isfinite(g["Q"])]
+        if not turning or not any(g["D"] == D and g["f"] == 0.0 and g["Q"] > 0 for g in groups):
+            continue
+        f_min = min(turning, key=lambda g: g["Q"])["f"]
+        f_max = max(g["f"] for g in turning)
+        drop = paired_ratio(runs, f_min, 0.0, D, level)
+        recovery = paired_ratio(runs, f_max, f_min, D, level) if f_max != f_min else (np.nan,) * 3 + (0,)
+        rows.append({"D": D, "f_min": f_min, "n_min": drop[3], "min_over_rest": drop[0],
+                     "min_over_rest_se": drop[1], "min_over_rest_ci": drop[2], "f_max": f_max,
+                     "n_max": recovery[3], "max_over_min": recovery[0], "max_over_min_se": recovery[1],
+                     "max_over_min_ci": recovery[2]})
     return rows
 
 

@@ -27,8 +27,8 @@ from analysis import coarse_grain as cg
 from analysis.lammps_io import iter_dump
 from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
-                                  beverloo, exponential, flow_changes, flow_fits, flow_groups, progress,
-                                  run_labels, smoothed_rate, window_rates)
+                                  beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups,
+                                  progress, run_labels, smoothed_rate, window_rates)
 from analysis.silo3d_records import load_run
 
 
@@ -53,7 +53,7 @@ def write_table(path_stem, header, rows, title):
     Path(f"{path_stem}.md").write_text("\n".join(lines) + "\n")
 
 
-def write_flow_tables(out, runs, groups, changes, fits, d):
+def write_flow_tables(out, runs, groups, changes, fits, d, drops=()):
     header = ["f", "D", "seed", "reinject", "Q_kg_s", "Q_kg_s_se", "Q_grains_s", "Q_grains_s_se",
               "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end", "stationary",
               "Q_kg_s_se_2x", "Q_trend", "Q_trend_se"]
@@ -87,6 +87,17 @@ def write_flow_tables(out, runs, groups, changes, fits, d):
                 "Relative change of Q from f = 0, Q(f)/Q(0) - 1, paired by seed: mean over the n seeds "
                 "with both runs, standard error and 95 % CI half width (Student t; for a single seed "
                 "from the two runs' block standard errors)")
+    header = ["D", "f_min", "n_min", "Qmin_over_Q0", "Qmin_over_Q0_se", "Qmin_over_Q0_ci95", "f_max", "n_max",
+              "Qmax_over_Qmin", "Qmax_over_Qmin_se", "Qmax_over_Qmin_ci95"]
+    rows = [[r["D"], r["f_min"], r["n_min"], r["min_over_rest"], r["min_over_rest_se"], r["min_over_rest_ci"],
+             r["f_max"], r["n_max"], r["max_over_min"], r["max_over_min_se"], r["max_over_min_ci"]]
+            for r in drops]
+    write_table(out / "flow_rate_drop", header, rows,
+                "The paper's Fig. 3 per orifice: (a) Q_min/Q(0), Q_min the Q of the frequency f_min with the "
+                "lowest mean over seeds; (b) Q(f_max)/Q_min, f_max the fastest frequency (the paper's 1.28 Hz). "
+                "Paired by seed: mean over the n seeds with both runs, standard error and 95 % CI half width "
+                "(Student t; for a single seed from the two runs' block standard errors). f_min is picked "
+                "from the same means: Q_min/Q(0) leans low")
     header = ["f", "C", "C_se", "k", "k_se", "beverloo_dof", "beverloo_chi2_dof",
               "A", "A_se", "kappa", "kappa_se", "exp_dof", "exp_chi2_dof"]
     rows = [[f, b["C"], b["C_se"], b["k"], b["k_se"], b["dof"], b["chi2_dof"],
@@ -430,10 +441,15 @@ def main(argv=None):
     d = runs[0].info["d"]
     fits = flow_fits(groups, d)
     changes = flow_changes(runs)
-    write_flow_tables(args.out, runs, groups, changes, fits, d)
+    drops = drop_and_recovery(runs, groups)
+    write_flow_tables(args.out, runs, groups, changes, fits, d, drops)
     for c in changes:
         progress(f"f = {c['f']:g} Hz, D = {c['D'] * 1e3:g} mm: Q changes by {100 * c['change']:+.1f} "
                  f"+- {100 * c['change_ci']:.1f} % (95 %) from f = 0 over {c['n']} seed(s)")
+    for r in drops:
+        progress(f"D = {r['D'] * 1e3:g} mm: Q_min/Q(0) = {r['min_over_rest']:.3f} +- {r['min_over_rest_ci']:.3f} "
+                 f"(95 %, f_min = {r['f_min']:g} Hz, {r['n_min']} seed(s)), Q({r['f_max']:g} Hz)/Q_min = "
+                 f"{r['max_over_min']:.3f} +- {r['max_over_min_ci']:.3f} ({r['n_max']} seed(s))")
     for f, fit in fits.items():
         b, e = fit["beverloo"], fit["exponential"]
         progress(f"f = {f:g} Hz: Beverloo C = {b['C']:.4g} +- {b['C_se']:.2g}, k = {b['k']:.3g} +- "

@@ -621,3 +621,33 @@ def test_a_window_per_frequency_with_transient_at(tmp_path, capsys):
             silo.parse_args([str(runs[0]), "--out", str(out), *bad])
     error = capsys.readouterr().err
     assert "the frequency 0.64 Hz is given more than once" in error and "--transient must be >= 0 s" in error
+
+
+def test_drop_and_recovery_of_the_paper_s_fig_3_by_hand(tmp_path):
+    # two seeds, regular flows (Q = the rate over the window [1, 12]),
+    # grains/s at f = 0, 0.16, 0.32, 1.28 Hz: seed 1 40, 20, 24, 30;
+    # seed 2 50, 30, 28, 40. Means 45, 25, 26, 35: f_min = 0.16 Hz.
+    # Q_min/Q(0) per seed 0.5 and 0.6; Q(1.28)/Q_min 1.5 and 4/3
+    rates = {1: (40.0, 20.0, 24.0, 30.0), 2: (50.0, 30.0, 28.0, 40.0)}
+    runs = []
+    for seed, per_f in rates.items():
+        for f, rate in zip((0.0, 0.16, 0.32, 1.28), per_f):
+            runs.append(tmp_path / f"f{f}_s{seed}")
+            write_run(runs[-1], f, 0.05, seed, rate)
+    out = tmp_path / "out"
+    assert silo.main([*map(str, runs), "--out", str(out), "--no-fields"]) == 0
+    drop = read_table(out / "flow_rate_drop.txt")
+    t1 = 12.706204736174707                      # t(0.975, 1 dof)
+    assert drop["D"].tolist() == [0.05] and drop["f_min"].tolist() == [0.16] and drop["f_max"].tolist() == [1.28]
+    assert drop["n_min"].tolist() == [2] and drop["n_max"].tolist() == [2]
+    assert drop["Qmin_over_Q0"][0] == pytest.approx(0.55, rel=1e-6)
+    assert drop["Qmin_over_Q0_se"][0] == pytest.approx(0.05, rel=1e-6)
+    assert drop["Qmin_over_Q0_ci95"][0] == pytest.approx(t1 * 0.05, rel=1e-6)
+    assert drop["Qmax_over_Qmin"][0] == pytest.approx((1.5 + 4 / 3) / 2, rel=1e-6)
+    assert drop["Qmax_over_Qmin_se"][0] == pytest.approx((1.5 - 4 / 3) / 2, rel=1e-6)
+    # the same pairs give flow_rate_change at 0.16 Hz: the drop minus 1
+    change = read_table(out / "flow_rate_change.txt")
+    assert change["change"][change["f"] == 0.16] == pytest.approx([-0.45], rel=1e-6)
+    # without a run at rest there is nothing to drop from: no row
+    assert silo.main([*map(str, runs[1:4]), "--out", str(tmp_path / "no_rest"), "--no-fields"]) == 0
+    assert read_table(tmp_path / "no_rest" / "flow_rate_drop.txt")["D"].size == 0

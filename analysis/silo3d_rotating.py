@@ -184,16 +184,22 @@ def fig2_panel(info):
     return f"{grains} ({reference}{panel})" if panel else f"{grains} (not in Fig. 2)"
 
 
-def plot_q_vs_f(path, groups, grains):
+def plot_q_vs_f(path, groups, grains, runs=()):
+    """Mean Q over seeds with its 95 % CI per orifice, and each run's Q
+    (crosses): the spread between packings, which sets the CI."""
     fig, axes = _figure()
     ax = axes[0, 0]
     for D in sorted({g["D"] for g in groups}):
         rows = [g for g in groups if g["D"] == D]
-        ax.errorbar([g["f"] for g in rows], [g["Q"] for g in rows], yerr=_error_bars([g["Q_ci"] for g in rows]),
-                    fmt="o-", capsize=3, label=f"D = {D * 1e3:g} mm")
+        line = ax.errorbar([g["f"] for g in rows], [g["Q"] for g in rows],
+                           yerr=_error_bars([g["Q_ci"] for g in rows]), fmt="o-", capsize=3,
+                           label=f"D = {D * 1e3:g} mm")
+        own = [(r.info["f"], r.flow.q_mass) for r in runs if r.info["D"] == D and np.isfinite(r.flow.q_mass)]
+        if own:
+            ax.plot(*zip(*own), "x", color=line[0].get_color(), alpha=0.6)
     ax.set_xlabel("f (Hz)")
     ax.set_ylabel("Q (kg/s)")
-    ax.set_title(f"Q(f), {grains}, 95 % CI")
+    ax.set_title(f"Q(f), {grains}\nmean and 95 % CI; x: each run" if runs else f"Q(f), {grains}, 95 % CI")
     ax.legend()
     return _save(fig, path)
 
@@ -455,7 +461,7 @@ def main(argv=None):
         progress(f"f = {f:g} Hz: Beverloo C = {b['C']:.4g} +- {b['C_se']:.2g}, k = {b['k']:.3g} +- "
                  f"{b['k_se']:.2g}; exponential kappa = {e['kappa'] * 1e-3:.4g} +- {e['kappa_se'] * 1e-3:.2g} /mm")
     if groups:
-        plot_q_vs_f(args.out / "Q_vs_f.png", groups, fig2_panel(runs[0].info))
+        plot_q_vs_f(args.out / "Q_vs_f.png", groups, fig2_panel(runs[0].info), runs)
         plot_q_vs_D(args.out / "Q_vs_D_loglog.png", groups, fits, d, log_q_axis_only=False)
         plot_q_vs_D(args.out / "Q_vs_D_semilog.png", groups, fits, d, log_q_axis_only=True)
     progress(f"flow-rate tables and plots in {args.out}")

@@ -4,14 +4,17 @@ cent of the space.
 
 The archive keeps run.txt, discharge.txt and reinject.txt as they are
 (small), and dump.cg.xz: the frames of dump.cg with only the grains inside
-the given cylinders about the z axis (r < R and z < Z; by default the
-orifice region, r < 6 cm and z < 5 cm, which holds the orifice cylinder,
-1 cm high, of every D up to 8 cm with the reach of the rods' kernel, 4 w
-= 2 cm: the orifice averages, but not the maps), compressed with xz. dump.contacts is not kept (no contact
+cylinders about the z axis (r < R and z < Z), compressed with xz. The
+orifice region, r < 6 cm and z < 5 cm, is always kept: it holds the
+orifice cylinder (D/2 wide, 1 cm high) with the reach of the default
+kernel (4 w, w = d*/2: 2 cm for the spheres and the L/d = 3.3 rods), so
+the orifice averages, for D up to 8 cm; more cylinders can be added. A
+run whose orifice cylinder with that reach sticks out of the kept ones
+gets a warning. The maps are not kept. dump.contacts is not kept (no contact
 stress from an archive). Once unpacked (`xz -dk dump.cg.xz`),
 `analysis.silo3d_rotating` reads an archive as it reads a run directory;
-`analysis.silo3d_acceleration` too, when the column over the axis is kept
-(`--dump-cylinder 0.025 0.2` added).
+`analysis.silo3d_acceleration` too, when the column over the axis is
+added (`--dump-cylinder 0.025 0.2`).
 
 A run whose run.txt has no `finished` line is refused: its records are
 cut at a checkpoint or still growing (`analysis.checkpoint keep` keeps an
@@ -26,10 +29,13 @@ import shutil
 import sys
 from pathlib import Path
 
+from analysis import coarse_grain as cg
 from analysis.checkpoint import frames_in_cylinder
+from analysis.silo3d_records import read_run_info
 
 RECORDS = ("run.txt", "discharge.txt", "reinject.txt")
 ORIFICE_REGION = (0.06, 0.05)
+ORIFICE_HEIGHT = 0.01       # the orifice cylinder of analysis.silo3d_rotating (--orifice-height)
 
 
 def is_finished(run_dir):
@@ -38,28 +44,42 @@ def is_finished(run_dir):
         return any(line.split()[:1] == ["finished"] for line in handle)
 
 
-def archive(run_dir, archive_dir, cylinders=(ORIFICE_REGION,)):
-    """Writes the archive of a finished run (the module's docstring);
-    returns the number of frames of its dump (0 without dump.cg)."""
+def orifice_reach(info):
+    """(r, z) that the orifice averages read grains within: the orifice
+    cylinder with the default kernel's cutoff around it."""
+    reach = cg.CUTOFF_IN_WIDTHS * 0.5 * float(cg.equivalent_diameter(info["mass"] / info["rho"]))
+    return 0.5 * info["D"] + reach, ORIFICE_HEIGHT + reach
+
+
+def archive(run_dir, archive_dir, more=()):
+    """Writes the archive of a finished run (the module's docstring) with
+    the orifice region and the `more` cylinders, (R, Z) pairs; returns the
+    number of frames of its dump (0 without dump.cg) and a warning or None."""
     run_dir, archive_dir = Path(run_dir), Path(archive_dir)
     if not (run_dir / "run.txt").exists():
         raise ValueError(f"{run_dir}: no run.txt, not a run directory")
     if not is_finished(run_dir):
         raise ValueError(f"{run_dir}: unfinished (run.txt has no 'finished' line); "
                          "analysis.checkpoint keep keeps a run that is to go on")
-    if not cylinders:
-        raise ValueError("at least one cylinder (R, Z) is needed")
+    if archive_dir.exists() and (archive_dir.resolve() == run_dir.resolve() or any(archive_dir.iterdir())):
+        raise ValueError(f"{archive_dir}: not empty; an archive goes into a new directory")
+    cylinders = [ORIFICE_REGION, *more]
+    radius, top = orifice_reach(read_run_info(run_dir, required=("D", "mass", "rho")))
+    warning = None
+    if not any(radius <= r and top <= z for r, z in cylinders):
+        warning = (f"the orifice averages read grains within r < {radius:.3g} m, z < {top:.3g} m, "
+                   "beyond the kept cylinders: the archive's averages will differ from the run's")
     archive_dir.mkdir(parents=True, exist_ok=True)
     for name in RECORDS:
         if (run_dir / name).exists():
             shutil.copyfile(run_dir / name, archive_dir / name)
     if not (run_dir / "dump.cg").exists():
-        return 0
+        return 0, warning
     with open(run_dir / "dump.cg") as handle:
         frames = frames_in_cylinder(handle.readlines(), *cylinders[0], *cylinders[1:])
     with lzma.open(archive_dir / "dump.cg.xz", "wt", preset=9) as packed:
         packed.writelines(frames)
-    return sum(line.startswith("ITEM: TIMESTEP") for line in frames)
+    return sum(line.startswith("ITEM: TIMESTEP") for line in frames), warning
 
 
 def main(argv=None):
@@ -67,19 +87,22 @@ def main(argv=None):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("archive_dir", type=Path)
-    parser.add_argument("--dump-cylinder", nargs=2, type=float, action="append", metavar=("R", "Z"),
-                        help="keep the grains with r < R and z < Z (m) about the z axis; may be repeated "
-                             f"(a grain inside any is kept); default {ORIFICE_REGION[0]:g} {ORIFICE_REGION[1]:g}")
+    parser.add_argument("--dump-cylinder", nargs=2, type=float, action="append", default=[], metavar=("R", "Z"),
+                        help="also keep the grains with r < R and z < Z (m) about the z axis; may be repeated "
+                             f"(the orifice region, {ORIFICE_REGION[0]:g} {ORIFICE_REGION[1]:g}, is always kept)")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
-    cylinders = [tuple(c) for c in args.dump_cylinder] if args.dump_cylinder else [ORIFICE_REGION]
-    for radius, top in cylinders:
+    more = [tuple(c) for c in args.dump_cylinder]
+    for radius, top in more:
         if not radius > 0:
             parser.error(f"--dump-cylinder {radius:g} {top:g}: the radius must be > 0 m")
+    cylinders = [ORIFICE_REGION, *more]
     try:
-        frames = archive(args.run_dir, args.archive_dir, cylinders)
+        frames, warning = archive(args.run_dir, args.archive_dir, more)
     except ValueError as error:
         print(f"silo3d_archive: ERROR: {error}", file=sys.stderr)
         return 2
+    if warning:
+        print(f"silo3d_archive: WARNING: {args.run_dir}: {warning}")
     print(f"silo3d_archive: {args.run_dir} -> {args.archive_dir} ({frames} dump frames, grains within "
           + " or ".join(f"r < {r:g} m, z < {z:g} m" for r, z in cylinders) + ")")
     return 0

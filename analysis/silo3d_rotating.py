@@ -194,7 +194,7 @@ def plot_q_vs_f(path, groups, grains, runs=()):
         line = ax.errorbar([g["f"] for g in rows], [g["Q"] for g in rows],
                            yerr=_error_bars([g["Q_ci"] for g in rows]), fmt="o-", capsize=3,
                            label=f"D = {D * 1e3:g} mm")
-        own = [(r.info["f"], r.flow.q_mass) for r in runs if r.info["D"] == D and np.isfinite(r.flow.q_mass)]
+        own = [(r.key[0], r.flow.q_mass) for r in runs if r.key[1] == D and np.isfinite(r.flow.q_mass)]
         if own:
             ax.plot(*zip(*own), "x", color=line[0].get_color(), alpha=0.6)
     ax.set_xlabel("f (Hz)")
@@ -419,6 +419,9 @@ def main(argv=None):
     if not runs:
         progress("no finished run to analyse (--include-unfinished analyses the others)")
         return 1
+    for f, t in args.transient_at:
+        if not any(math.isclose(run.info["f"], f, abs_tol=FREQUENCY_TOLERANCE) for run in runs):
+            progress(f"WARNING: --transient-at {f:g} {t:g}: no run at {f:g} Hz")
     for run, label in zip(runs, run_labels(runs)):
         run.label = label
         flow = analyse_flow(run, transient_of(run, args), args.gap, args.end_fraction, args.blocks,

@@ -47,6 +47,35 @@ def test_the_archive_gives_the_full_run_s_orifice_averages_and_flow_rate(tmp_pat
         (out_full / "flow_rate_runs.md").read_text().split("\n")[1:]      # the title names the paths
 
 
+def test_a_cylinder_is_added_to_the_orifice_region_and_a_wide_orifice_is_warned_of(tmp_path, capsys):
+    # D = 9 cm: the orifice cylinder with the kernel's reach is r < 6.48 cm
+    # (4.5 + 4 * 0.495 cm), wider than the orifice region: a warning
+    run = tmp_path / "run"
+    write_run(run, 0.32, 0.09, 1, 20.0, fields=True)
+    kept = tmp_path / "kept"
+    assert silo3d_archive.main([str(run), str(kept), "--dump-cylinder", "0.015", "0.2"]) == 0
+    assert "WARNING" in capsys.readouterr().out
+    for (_, whole), (_, part) in zip(read_dump(run / "dump.cg"), read_dump_xz(kept / "dump.cg.xz")):
+        r2 = whole["x"] ** 2 + whole["y"] ** 2
+        inside = ((r2 < 0.06 ** 2) & (whole["z"] < 0.05)) | ((r2 < 0.015 ** 2) & (whole["z"] < 0.2))
+        assert inside.sum() > ((r2 < 0.06 ** 2) & (whole["z"] < 0.05)).sum()      # the column adds grains
+        np.testing.assert_array_equal(part["z"], whole["z"][inside])
+    # the orifice of 3 cm is inside: no warning
+    write_run(tmp_path / "small", 0.32, 0.03, 1, 20.0)
+    assert silo3d_archive.main([str(tmp_path / "small"), str(tmp_path / "small_kept")]) == 0
+    assert "WARNING" not in capsys.readouterr().out
+    # an archive goes into a new directory, not over another one or the run
+    for target in (kept, run):
+        assert silo3d_archive.main([str(run), str(target)]) == 2
+        assert "not empty; an archive goes into a new directory" in capsys.readouterr().err
+
+
+def read_dump_xz(path):
+    unpacked = path.with_suffix("")
+    unpacked.write_text(lzma.open(path, "rt").read())
+    return read_dump(unpacked)
+
+
 def test_an_unfinished_run_and_bad_cylinders_are_refused(tmp_path, capsys):
     run = tmp_path / "run"
     write_run(run, 0.32, 0.03, 1, 20.0, finished=False)

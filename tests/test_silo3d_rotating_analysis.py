@@ -611,6 +611,10 @@ def test_a_window_per_frequency_with_transient_at(tmp_path, capsys):
     assert per_run["Q_grains_s"] == pytest.approx([40.0, 420 / 11], rel=1e-7)     # the table's 8 digits
     change = read_table(out / "flow_rate_change.txt")
     assert change["change"] == pytest.approx([420 / 11 / 40 - 1], rel=1e-6)
+    # a frequency without runs is named (a typo would otherwise pass unseen)
+    assert silo.main([*map(str, runs), "--out", str(tmp_path / "typo"), "--no-fields",
+                      "--transient-at", "0.46", "1"]) == 0
+    assert "WARNING: --transient-at 0.46 1: no run at 0.46 Hz" in capsys.readouterr().out
     # without it, both over [4, 12]
     assert silo.main([*map(str, runs), "--out", str(tmp_path / "same"), "--no-fields", "--transient", "4"]) == 0
     assert read_table(tmp_path / "same" / "flow_rate_runs.txt")["Q_grains_s"] == pytest.approx([40.0, 40.0])

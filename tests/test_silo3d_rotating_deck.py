@@ -161,6 +161,17 @@ def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
     assert params["discharge_time"] == 0.3
     assert params["finished"] == pytest.approx(record["t"][-1], abs=0.011)
 
+    # a packing of another silo is refused, not run: another N (the full
+    # silo's 10 000 where the quick one settled 900), a narrower side wall
+    # (the quick silo's grains reach r = 5.4 cm; R_c = 4 cm)
+    for variables, message in (({"N": 10000}, "holds 900 grains, not N = 10000 (a packing of another silo?)"),
+                               ({"Dc": 0.08}, "atoms beyond the side wall R_c = 0.04 m (a packing of a wider silo?)")):
+        with pytest.raises(LiggghtsError) as caught:
+            run(quick_deck(read_packing=1, packing="../settle/packing.restart", discharge_time=0.3, **variables),
+                subdir="other")
+        assert message in caught.value.output
+        assert not (tmp_path / "other" / "discharge.txt").exists()
+
 
 def test_a_seed_equal_to_the_grain_template_s_is_refused_with_its_message(run):
     """The deck's seed must differ from the seeds of its particle template

@@ -93,6 +93,12 @@ def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
     # the first sample at or after each transient (samples every 0.01 s), the last one
     assert 0.05 <= runs["t_start"][rest] < 0.06 and 0.15 <= runs["t_start"][turning] < 0.16
     assert runs["t_end"][rest] == pytest.approx(0.1, abs=0.01) and runs["t_end"][turning] == pytest.approx(0.2, abs=0.01)
+    # asked again for a longer run at 0.32 Hz: the finished one is kept, and the log says it is shorter
+    again = campaign(run_dir, SHAPE="rod", FS="0 0.32", PACKINGS=str(kept), DISCHARGE="0.1",
+                     DISCHARGE_AT="0.32 0.3", TRANSIENT="0.05", DECK_VARS="quick 1 settle_time 0.3")
+    assert again.returncode == 0, again.stdout + again.stderr
+    assert "D 0.05 f 0 seed 32452843: done before, skipped" in again.stdout
+    assert "D 0.05 f 0.32 seed 32452843: done before with a discharge of 0.2 s, not 0.3: skipped" in again.stdout
 
     other = campaign(tmp_path / "longer", SHAPE="rod", ASPECT="4.0", PACKINGS=str(kept), DECK_VARS="quick 1")
     assert other.returncode != 0
@@ -106,8 +112,10 @@ def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
     ({"TRANSIENT_AT": "0.32 x"}, "TRANSIENT_AT: 0.32 needs a time >= 0 in s, not 'x'"),
     ({"TRANSIENT_AT": "0.32 1 0.32 2"}, "TRANSIENT_AT: 0.32 is given more than once"),
     ({"PACKINGS": "/nonexistent"}, "PACKINGS: no directory /nonexistent"),
+    ({"DISCHARGE": "1", "TRANSIENT_AT": "0.32 1"},
+     "at f = 0.32 the discharge (1 s) must be longer than the transient left out (1 s)"),
 ])
 def test_bad_per_frequency_settings_and_packings_are_refused(tmp_path, environment, message):
     result = campaign(tmp_path / "runs", SHAPE="rod", FS="0 0.32", **environment)
     assert result.returncode == 2 and message in result.stderr, result.stderr
-    assert not list((tmp_path / "runs").glob("*"))
+    assert not (tmp_path / "runs").exists()

@@ -119,6 +119,12 @@ check_pairs() {  # NAME "f T ...": pairs, each f one of FS and given once, each 
 }
 check_pairs DISCHARGE_AT "$DISCHARGE_AT"
 check_pairs TRANSIENT_AT "$TRANSIENT_AT"
+# each frequency's window must be inside its run
+for f in $FS; do
+  length=$(value_at "$f" "$DISCHARGE" "$DISCHARGE_AT") transient=$(value_at "$f" "$TRANSIENT" "$TRANSIENT_AT")
+  awk -v u="$length" -v t="$transient" 'BEGIN { exit !(u + 0 > t + 0) }' || {
+    echo "run.sh: at f = $f the discharge ($length s) must be longer than the transient left out ($transient s)" >&2; exit 2; }
+done
 TRANSIENT_ARGS=()
 set -- $TRANSIENT_AT
 while [ $# -ge 2 ]; do TRANSIENT_ARGS+=(--transient-at "$1" "$2"); shift 2; done
@@ -191,9 +197,16 @@ wants_fields() {
 }
 
 discharge() {  # one (D, f, seed) run
-  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start resume until
-  until=$(value_at "$f" "$DISCHARGE" "$DISCHARGE_AT")
-  [ -f "$dir/finished" ] && { log "D $D f $f seed $seed: done before, skipped"; return 0; }
+  local D=$1 f=$2 seed=$3 dir="$RUN_DIR/D${1}_f${2}_s${3}" dump=0 start resume length
+  length=$(value_at "$f" "$DISCHARGE" "$DISCHARGE_AT")
+  if [ -f "$dir/finished" ]; then
+    local ran
+    ran=$(awk '$1 == "discharge_time" { t = $2 } END { print t }' "$dir/run.txt")
+    awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 == b + 0) }' \
+      && log "D $D f $f seed $seed: done before, skipped" \
+      || log "D $D f $f seed $seed: done before with a discharge of $ran s, not $length: skipped (kept as it is)"
+    return 0
+  fi
   mkdir -p "$dir"
   wants_fields "$D" "$f" && dump=0.05
   start=$(date +%s)
@@ -202,13 +215,13 @@ discharge() {  # one (D, f, seed) run
   if [ -n "$resume" ]; then
     log "D $D f $f seed $seed: resuming ($resume)"
   else
-    log "D $D f $f seed $seed: running $until s (dumps every $dump s)"
+    log "D $D f $f seed $seed: running $length s (dumps every $dump s)"
     : > "$dir/screen.txt"
   fi
   # $resume: "-var name value" words, none with spaces
   (cd "$dir" && "${UNBUFFERED[@]}" "$LIGGGHTS" -in "$DECK" "${COMMON[@]}" -var seed "$seed" -var read_packing 1 \
       -var packing "$RUN_DIR/packing_s$seed/packing.restart" -var reinject "$REINJECT" -var D "$D" -var f "$f" \
-      -var discharge_time "$until" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
+      -var discharge_time "$length" -var dump_every_time "$dump" -var checkpoint_every_time "$CHECKPOINT" \
       $resume >> screen.txt 2>&1) \
       || { log "D $D f $f seed $seed: FAILED, see $dir/screen.txt"; return 1; }
   # LIGGGHTS ends a run it got SIGINT or SIGTERM for with exit status 0

@@ -75,11 +75,25 @@ def archive(run_dir, archive_dir, more=()):
             shutil.copyfile(run_dir / name, archive_dir / name)
     if not (run_dir / "dump.cg").exists():
         return 0, warning
-    with open(run_dir / "dump.cg") as handle:
-        frames = frames_in_cylinder(handle.readlines(), *cylinders[0], *cylinders[1:])
-    with lzma.open(archive_dir / "dump.cg.xz", "wt", preset=9) as packed:
-        packed.writelines(frames)
-    return sum(line.startswith("ITEM: TIMESTEP") for line in frames), warning
+    count = 0
+    with open(run_dir / "dump.cg") as handle, lzma.open(archive_dir / "dump.cg.xz", "wt", preset=9) as packed:
+        for frame in dump_frames(handle):
+            kept = frames_in_cylinder(frame, *cylinders[0], *cylinders[1:])
+            packed.writelines(kept)
+            count += bool(kept)
+    return count, warning
+
+
+def dump_frames(handle):
+    """The lines of a `dump custom` file frame by frame (9 header lines and
+    the rows), so that a dump of some hundred MB is never held whole; a
+    frame cut short comes last, as it is."""
+    while True:
+        head = [line for line in (handle.readline() for _ in range(9)) if line]
+        if not head:
+            return
+        rows = int(head[3]) if len(head) > 3 and head[3].strip().isdigit() else 0
+        yield head + [line for line in (handle.readline() for _ in range(rows)) if line]
 
 
 def main(argv=None):

@@ -1,0 +1,131 @@
+"""Coarse-grained maps of several runs side by side, as the paper's Figs.
+6–7 set frequencies next to each other: for each run the mean of its map
+windows (the `fields.npz` that analysis.silo3d_rotating writes per run,
+each window weighted by its frames), one column per run, one row per
+field, one colour scale per row, so that the runs compare by colour.
+
+CLI:  python3 -m analysis.silo3d_maps FIELDS.npz[:LABEL] ... --out PNG [--fields phi speed Ozz ...] [--z-max Z]
+
+Fields: phi (packing fraction), speed ((v_r² + v_z²)^½, with the
+streamlines of (v_r, v_z)), vtheta, pk (kinetic pressure), pc (contact
+pressure), Ozz (orientation), S (nematic order, cylindrical average). A
+field a run's maps lack (orientation for spheres, contact pressure
+without dump.contacts) is refused with a message.
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+FIELDS = {
+    "phi": ("packing fraction", lambda m: m["packing_fraction"]),
+    "speed": ("in-plane speed (m/s)", lambda m: np.hypot(m["velocity"][..., 0], m["velocity"][..., 2])),
+    "vtheta": ("v_theta (m/s)", lambda m: m["velocity"][..., 1]),
+    "pk": ("kinetic pressure (Pa)", lambda m: m["kinetic_pressure"]),
+    "pc": ("contact pressure (Pa)", lambda m: m["contact_pressure"]),
+    "Ozz": ("O_zz", lambda m: m["orientation"][..., 2, 2]),
+    "S": ("nematic order S", lambda m: m["nematic_order"]),
+}
+NEEDS = {"phi": "packing_fraction", "speed": "velocity", "vtheta": "velocity", "pk": "kinetic_pressure",
+         "pc": "contact_pressure", "Ozz": "orientation", "S": "nematic_order"}
+
+
+def mean_fields(path):
+    """r, z edges and centres, and each field averaged over the map
+    windows, weighted by the frames each holds (cells empty in a window,
+    NaN, are left out of that window's share)."""
+    with np.load(path) as stored:
+        frames = stored["frames"].astype(float)
+        names = sorted({key.rsplit("_", 1)[0] for key in stored.files if key.rsplit("_", 1)[-1].isdigit()})
+        windows = [w for w in range(len(frames)) if frames[w] > 0 and f"{names[0]}_{w}" in stored.files]
+        if not windows:
+            raise ValueError(f"{path}: no map window with frames")
+        means = {}
+        for name in names:
+            values = np.stack([stored[f"{name}_{w}"] for w in windows])
+            weights = np.broadcast_to(frames[windows].reshape((-1,) + (1,) * (values.ndim - 1)), values.shape)
+            finite = np.isfinite(values)
+            total = np.where(finite, weights, 0.0).sum(axis=0)
+            with np.errstate(invalid="ignore"):
+                means[name] = np.where(finite, values * weights, 0.0).sum(axis=0) / total
+        return {"r_edges": stored["r_edges"], "z_edges": stored["z_edges"], "r": stored["r"], "z": stored["z"],
+                "maps": means, "windows": stored["windows"][windows]}
+
+
+def plot(path, runs, labels, fields, z_max=None):
+    """Rows: fields; columns: runs; one colour scale per row over the
+    shown part (z < z_max, the whole grid by default)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    first = runs[0]
+    top = min(z_max or np.inf, first["z_edges"][-1])
+    shown = first["z"] < top
+    aspect = top / first["r_edges"][-1]
+    fig, axes = plt.subplots(len(fields), len(runs), figsize=(2.6 * len(runs) + 0.8, (0.4 + 1.7 * aspect) * len(fields)),
+                             squeeze=False, layout="constrained")
+    for row, name in zip(axes, fields):
+        title, values_of = FIELDS[name]
+        values = [values_of(run["maps"]) for run in runs]
+        low = min(np.nanmin(v[:, shown]) for v in values)
+        high = max(np.nanmax(v[:, shown]) for v in values)
+        for ax, run, value, label in zip(row, runs, values, labels):
+            mesh = ax.pcolormesh(run["r_edges"], run["z_edges"], value.T, vmin=low, vmax=high, shading="flat")
+            if name == "speed":
+                empty = run["maps"]["packing_fraction"].T < 0.05
+                v_r = np.where(empty, np.nan, run["maps"]["velocity"][..., 0].T)
+                v_z = np.where(empty, np.nan, run["maps"]["velocity"][..., 2].T)
+                ax.streamplot(run["r"], run["z"], v_r, v_z, color="w", density=0.8, linewidth=0.6)
+            ax.set_ylim(0.0, top)
+            ax.set_aspect("equal")
+            ax.set_title(f"{label}: {title}", fontsize="small")
+            ax.set_xlabel("r (m)")
+        row[0].set_ylabel("z (m)")
+        fig.colorbar(mesh, ax=list(row), shrink=0.6, format="%.3g")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_maps", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("runs", nargs="+", help="FIELDS.npz[:LABEL], a run's fields.npz and its column's label")
+    parser.add_argument("--out", type=Path, required=True, help="the figure (PNG)")
+    parser.add_argument("--fields", nargs="+", default=["phi", "speed", "Ozz"], choices=sorted(FIELDS),
+                        help="rows of the figure (default: phi speed Ozz)")
+    parser.add_argument("--z-max", type=float, help="show z < Z only (m); the colour scales follow")
+    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    if args.z_max is not None and not args.z_max > 0:
+        parser.error(f"--z-max must be > 0 m, not {args.z_max:g}")
+    runs, labels = [], []
+    for spec in args.runs:
+        path, _, label = spec.partition(":")
+        try:
+            run = mean_fields(path)
+        except (OSError, ValueError, KeyError) as error:
+            print(f"silo3d_maps: ERROR: {spec}: {error}", file=sys.stderr)
+            return 2
+        missing = [name for name in args.fields if NEEDS[name] not in run["maps"]]
+        if missing:
+            print(f"silo3d_maps: ERROR: {path} has no map for {', '.join(missing)} "
+                  "(no orientation for spheres, no contact pressure without dump.contacts)", file=sys.stderr)
+            return 2
+        runs.append(run)
+        labels.append(label or Path(path).parent.name)
+        spans = ", ".join(f"{low:.3g}-{high:.3g} s" for low, high in run["windows"])
+        print(f"silo3d_maps: {labels[-1]}: mean of the windows {spans}")
+    shapes = {run["maps"]["packing_fraction"].shape for run in runs}
+    if len(shapes) > 1:
+        print(f"silo3d_maps: ERROR: the runs' grids differ ({sorted(shapes)}): maps of one silo and spacing only",
+              file=sys.stderr)
+        return 2
+    plot(args.out, runs, labels, args.fields, args.z_max)
+    print(f"silo3d_maps: {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -308,6 +308,7 @@ def plot_orifice_vs_f(path, groups, names, labels):
 # frequencies as run.txt prints them (the deck's -var f): equal within round-off
 FREQUENCY_TOLERANCE = 1e-9
 
+
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -456,9 +457,10 @@ def main(argv=None):
         progress(f"f = {c['f']:g} Hz, D = {c['D'] * 1e3:g} mm: Q changes by {100 * c['change']:+.1f} "
                  f"+- {100 * c['change_ci']:.1f} % (95 %) from f = 0 over {c['n']} seed(s)")
     for r in drops:
+        recovery = (f", Q({r['f_max']:g} Hz)/Q_min = {r['max_over_min']:.3f} +- {r['max_over_min_ci']:.3f} "
+                    f"({r['n_max']} seed(s))" if r["n_max"] else "")
         progress(f"D = {r['D'] * 1e3:g} mm: Q_min/Q(0) = {r['min_over_rest']:.3f} +- {r['min_over_rest_ci']:.3f} "
-                 f"(95 %, f_min = {r['f_min']:g} Hz, {r['n_min']} seed(s)), Q({r['f_max']:g} Hz)/Q_min = "
-                 f"{r['max_over_min']:.3f} +- {r['max_over_min_ci']:.3f} ({r['n_max']} seed(s))")
+                 f"(95 %, f_min = {r['f_min']:g} Hz, {r['n_min']} seed(s)){recovery}")
     for f, fit in fits.items():
         b, e = fit["beverloo"], fit["exponential"]
         progress(f"f = {f:g} Hz: Beverloo C = {b['C']:.4g} +- {b['C_se']:.2g}, k = {b['k']:.3g} +- "

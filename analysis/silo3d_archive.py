@@ -6,11 +6,11 @@ The archive keeps run.txt, discharge.txt and reinject.txt as they are
 (small), and dump.cg.xz: the frames of dump.cg with only the grains inside
 cylinders about the z axis (r < R and z < Z), compressed with xz. The
 orifice region, r < 6 cm and z < 5 cm, is always kept: it holds the
-orifice cylinder (D/2 wide, 1 cm high) with the reach of the default
+orifice cylinder (radius D/2, 1 cm high) with the reach of the default
 kernel (4 w, w = d*/2: 2 cm for the spheres and the L/d = 3.3 rods), so
 the orifice averages, for D up to 8 cm; more cylinders can be added. A
 run whose orifice cylinder with that reach sticks out of the kept ones
-gets a warning. The maps are not kept. dump.contacts is not kept (no contact
+gets a warning. Neither the maps nor dump.contacts are kept (no contact
 stress from an archive). Once unpacked (`xz -dk dump.cg.xz`),
 `analysis.silo3d_rotating` reads an archive as it reads a run directory;
 `analysis.silo3d_acceleration` too, when the column over the axis is
@@ -31,11 +31,12 @@ from pathlib import Path
 
 from analysis import coarse_grain as cg
 from analysis.checkpoint import frames_in_cylinder
+from analysis.silo3d_fields import FieldSettings
 from analysis.silo3d_records import read_run_info
 
 RECORDS = ("run.txt", "discharge.txt", "reinject.txt")
 ORIFICE_REGION = (0.06, 0.05)
-ORIFICE_HEIGHT = 0.01       # the orifice cylinder of analysis.silo3d_rotating (--orifice-height)
+ORIFICE_HEIGHT = FieldSettings.orifice_height     # the analysis' default (--orifice-height)
 
 
 def is_finished(run_dir):

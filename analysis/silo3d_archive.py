@@ -39,16 +39,10 @@ ORIFICE_REGION = (0.06, 0.05)
 ORIFICE_HEIGHT = FieldSettings.orifice_height     # the analysis' default (--orifice-height)
 
 
-def is_finished(run_dir):
-    """The deck writes a `finished` line into run.txt when its discharge ends."""
-    with open(Path(run_dir) / "run.txt") as handle:
-        return any(line.split()[:1] == ["finished"] for line in handle)
-
-
 def orifice_reach(info):
     """(r, z) that the orifice averages read grains within: the orifice
     cylinder with the default kernel's cutoff around it."""
-    reach = cg.CUTOFF_IN_WIDTHS * 0.5 * float(cg.equivalent_diameter(info["mass"] / info["rho"]))
+    reach = cg.default_kernel([info["mass"]], info["rho"]).cutoff
     return 0.5 * info["D"] + reach, ORIFICE_HEIGHT + reach
 
 
@@ -59,13 +53,14 @@ def archive(run_dir, archive_dir, more=()):
     run_dir, archive_dir = Path(run_dir), Path(archive_dir)
     if not (run_dir / "run.txt").exists():
         raise ValueError(f"{run_dir}: no run.txt, not a run directory")
-    if not is_finished(run_dir):
+    info = read_run_info(run_dir, required=("D", "mass", "rho"))
+    if "finished" not in info:         # the deck's last act (silo3d_records.Run.finished)
         raise ValueError(f"{run_dir}: unfinished (run.txt has no 'finished' line); "
                          "analysis.checkpoint keep keeps a run that is to go on")
     if archive_dir.exists() and (archive_dir.resolve() == run_dir.resolve() or any(archive_dir.iterdir())):
         raise ValueError(f"{archive_dir}: not empty; an archive goes into a new directory")
     cylinders = [ORIFICE_REGION, *more]
-    radius, top = orifice_reach(read_run_info(run_dir, required=("D", "mass", "rho")))
+    radius, top = orifice_reach(info)
     warning = None
     if not any(radius <= r and top <= z for r, z in cylinders):
         warning = (f"the orifice averages read grains within r < {radius:.3g} m, z < {top:.3g} m, "

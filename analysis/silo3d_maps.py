@@ -19,17 +19,18 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.silo3d_rotating import draw_streamlines, in_plane_speed
+
+# name: (title, the stored map it is made from, how)
 FIELDS = {
-    "phi": ("packing fraction", lambda m: m["packing_fraction"]),
-    "speed": ("in-plane speed (m/s)", lambda m: np.hypot(m["velocity"][..., 0], m["velocity"][..., 2])),
-    "vtheta": ("v_theta (m/s)", lambda m: m["velocity"][..., 1]),
-    "pk": ("kinetic pressure (Pa)", lambda m: m["kinetic_pressure"]),
-    "pc": ("contact pressure (Pa)", lambda m: m["contact_pressure"]),
-    "Ozz": ("O_zz", lambda m: m["orientation"][..., 2, 2]),
-    "S": ("nematic order S", lambda m: m["nematic_order"]),
+    "phi": ("packing fraction", "packing_fraction", lambda m: m["packing_fraction"]),
+    "speed": ("in-plane speed (m/s)", "velocity", in_plane_speed),
+    "vtheta": ("v_theta (m/s)", "velocity", lambda m: m["velocity"][..., 1]),
+    "pk": ("kinetic pressure (Pa)", "kinetic_pressure", lambda m: m["kinetic_pressure"]),
+    "pc": ("contact pressure (Pa)", "contact_pressure", lambda m: m["contact_pressure"]),
+    "Ozz": ("O_zz", "orientation", lambda m: m["orientation"][..., 2, 2]),
+    "S": ("nematic order S", "nematic_order", lambda m: m["nematic_order"]),
 }
-NEEDS = {"phi": "packing_fraction", "speed": "velocity", "vtheta": "velocity", "pk": "kinetic_pressure",
-         "pc": "contact_pressure", "Ozz": "orientation", "S": "nematic_order"}
 
 
 def mean_fields(path):
@@ -67,17 +68,14 @@ def plot(path, runs, labels, fields, z_max=None):
     fig, axes = plt.subplots(len(fields), len(runs), figsize=(2.6 * len(runs) + 0.8, (0.4 + 1.7 * aspect) * len(fields)),
                              squeeze=False, layout="constrained")
     for row, name in zip(axes, fields):
-        title, values_of = FIELDS[name]
+        title, _, values_of = FIELDS[name]
         values = [values_of(run["maps"]) for run in runs]
         low = min(np.nanmin(v[:, shown]) for v in values)
         high = max(np.nanmax(v[:, shown]) for v in values)
         for ax, run, value, label in zip(row, runs, values, labels):
             mesh = ax.pcolormesh(run["r_edges"], run["z_edges"], value.T, vmin=low, vmax=high, shading="flat")
             if name == "speed":
-                empty = run["maps"]["packing_fraction"].T < 0.05
-                v_r = np.where(empty, np.nan, run["maps"]["velocity"][..., 0].T)
-                v_z = np.where(empty, np.nan, run["maps"]["velocity"][..., 2].T)
-                ax.streamplot(run["r"], run["z"], v_r, v_z, color="w", density=0.8, linewidth=0.6)
+                draw_streamlines(ax, run["r"], run["z"], run["maps"])
             ax.set_ylim(0.0, top)
             ax.set_aspect("equal")
             ax.set_title(f"{label}: {title}", fontsize="small")
@@ -108,7 +106,7 @@ def main(argv=None):
         except (OSError, ValueError, KeyError) as error:
             print(f"silo3d_maps: ERROR: {spec}: {error}", file=sys.stderr)
             return 2
-        missing = [name for name in args.fields if NEEDS[name] not in run["maps"]]
+        missing = [name for name in args.fields if FIELDS[name][1] not in run["maps"]]
         if missing:
             print(f"silo3d_maps: ERROR: {path} has no map for {', '.join(missing)} "
                   "(no orientation for spheres, no contact pressure without dump.contacts)", file=sys.stderr)

@@ -158,7 +158,14 @@ class Run:
     @property
     def key(self):
         """(f, D) rounded so that equal deck values group together."""
-        return (round(self.info["f"], 9), round(self.info["D"], 9))
+        return (key_value(self.info["f"]), key_value(self.info["D"]))
+
+
+def key_value(value):
+    """A frequency or diameter as Run.key holds it: rounded to 9 decimals,
+    so that values equal within round-off (run.txt's digits, a command
+    line's) compare equal."""
+    return round(value, 9)
 
 
 def load_run(run_dir):

@@ -17,7 +17,6 @@ CLI:  python3 -m analysis.silo3d_rotating RUN_DIR [RUN_DIR ...] --out DIR [optio
 # orifice averages).
 
 import argparse
-import math
 import sys
 from pathlib import Path
 
@@ -29,7 +28,7 @@ from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups
 from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
                                   beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups,
                                   progress, run_labels, smoothed_rate, window_rates)
-from analysis.silo3d_records import load_run
+from analysis.silo3d_records import key_value, load_run
 
 
 # ---------------------------------------------------------------- tables
@@ -251,11 +250,7 @@ def _map_panels(path, grid, windows, maps, title, values_of, streamlines=False, 
         values = values_of(fields)
         mesh = ax.pcolormesh(grid.r_edges, grid.z_edges, values.T, cmap=cmap, shading="flat")
         if streamlines:
-            empty = fields["packing_fraction"].T < 0.05
-            v_r = np.ma.masked_where(empty, fields["velocity"][..., 0].T)
-            v_z = np.ma.masked_where(empty, fields["velocity"][..., 2].T)
-            ax.streamplot(grid.r, grid.z, v_r.filled(np.nan), v_z.filled(np.nan), color="w",
-                          density=0.8, linewidth=0.6)
+            draw_streamlines(ax, grid.r, grid.z, fields)
         ax.set_aspect("equal")
         ax.set_title(f"{0.5 * (low + high):.3g} s", fontsize="small")
         ax.set_xlabel("r (m)")
@@ -265,11 +260,25 @@ def _map_panels(path, grid, windows, maps, title, values_of, streamlines=False, 
     return _save(fig, path)
 
 
+def draw_streamlines(ax, r, z, fields):
+    """White streamlines of (v_r, v_z) over a map, none where the cells
+    are nearly empty (phi < 0.05)."""
+    empty = fields["packing_fraction"].T < 0.05
+    v_r = np.where(empty, np.nan, fields["velocity"][..., 0].T)
+    v_z = np.where(empty, np.nan, fields["velocity"][..., 2].T)
+    ax.streamplot(r, z, v_r, v_z, color="w", density=0.8, linewidth=0.6)
+
+
+def in_plane_speed(fields):
+    """(v_r^2 + v_z^2)^1/2, the paper's Fig. 7."""
+    return np.hypot(fields["velocity"][..., 0], fields["velocity"][..., 2])
+
+
 def plot_maps(directory, grid, windows, maps):
     """The colour maps of one run; returns the files written."""
-    speed = lambda m: np.hypot(m["velocity"][..., 0], m["velocity"][..., 2])
     specs = [("map_phi.png", "packing fraction (Fig. 6)", lambda m: m["packing_fraction"], False),
-             ("map_speed.png", "in-plane speed (v_r^2+v_z^2)^1/2 (m/s), streamlines (Fig. 7)", speed, True),
+             ("map_speed.png", "in-plane speed (v_r^2+v_z^2)^1/2 (m/s), streamlines (Fig. 7)", in_plane_speed,
+              True),
              ("map_vtheta.png", "v_theta (m/s)", lambda m: m["velocity"][..., 1], False),
              ("map_pk.png", "kinetic pressure tr(sigma_k)/3 (Pa)", lambda m: m["kinetic_pressure"], False)]
     present = next(m for m in maps if m is not None)
@@ -304,10 +313,6 @@ def plot_orifice_vs_f(path, groups, names, labels):
 
 
 # ---------------------------------------------------------------- CLI
-
-# frequencies as run.txt prints them (the deck's -var f): equal within round-off
-FREQUENCY_TOLERANCE = 1e-9
-
 
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating", description=__doc__,
@@ -355,11 +360,11 @@ def parse_args(argv):
         parser.error(f"--window-width must be > 0 s, not {args.window_width:g}")
     if not args.transient >= 0:
         parser.error(f"--transient must be >= 0 s, not {args.transient:g}")
-    frequencies = [f for f, _ in args.transient_at]
+    frequencies = [key_value(f) for f, _ in args.transient_at]
     for f, t in args.transient_at:
         if not (f >= 0 and t >= 0):
             parser.error(f"--transient-at {f:g} {t:g}: the frequency and the time must be >= 0")
-        if sum(math.isclose(f, other, abs_tol=FREQUENCY_TOLERANCE) for other in frequencies) > 1:
+        if frequencies.count(key_value(f)) > 1:
             parser.error(f"--transient-at: the frequency {f:g} Hz is given more than once")
     return args
 
@@ -368,7 +373,7 @@ def transient_of(run, args):
     """The seconds after the opening left out of this run's window: those
     of --transient-at for its frequency, else --transient."""
     for f, t in args.transient_at:
-        if math.isclose(run.info["f"], f, abs_tol=FREQUENCY_TOLERANCE):
+        if key_value(f) == run.key[0]:
             return t
     return args.transient
 
@@ -421,7 +426,7 @@ def main(argv=None):
         progress("no finished run to analyse (--include-unfinished analyses the others)")
         return 1
     for f, t in args.transient_at:
-        if not any(math.isclose(run.info["f"], f, abs_tol=FREQUENCY_TOLERANCE) for run in runs):
+        if key_value(f) not in {run.key[0] for run in runs}:
             progress(f"WARNING: --transient-at {f:g} {t:g}: no run at {f:g} Hz")
     for run, label in zip(runs, run_labels(runs)):
         run.label = label

@@ -1,0 +1,110 @@
+"""analysis.silo3d_carry: a campaign carried from one machine to the next
+through a store directory. On hand-made run directories: the finished run
+comes back finished with its orifice region and cost, the unfinished one
+resumes from the same checkpoint as before, and a run that finishes after
+being carried is archived in place of its kept checkpoint."""
+
+import lzma
+
+from analysis import checkpoint, silo3d_carry
+from analysis import silo3d_campaign
+from analysis.lammps_io import read_dump
+from test_silo3d_rotating_analysis import DT, T_OPEN, write_run
+
+SCREEN = "Loop time of 360 on 1 procs for 500 steps with 100 atoms\n"
+
+
+def make_campaign(directory):
+    """A finished run at 0.32 Hz and, at rest, one stopped after its
+    checkpoint at 2 s of discharge (records and dump past it)."""
+    finished, stopped = directory / "D0.03_f0.32_s11", directory / "D0.03_f0_s11"
+    write_run(finished, 0.32, 0.03, 11, 20.0, duration=3.0, fields=True)
+    write_run(stopped, 0.0, 0.03, 11, 20.0, duration=3.0, fields=True, finished=False)
+    step_open = round(T_OPEN / DT)
+    with open(stopped / "run.txt", "a") as run_txt:
+        run_txt.write(f"step_open {step_open}\ndischarge_time 8.0\n")
+    checkpoint_step = step_open + 2000
+    (stopped / "checkpoints.txt").write_text(f"{checkpoint_step} checkpoint.{checkpoint_step}.restart\n")
+    (stopped / f"checkpoint.{checkpoint_step}.restart").write_bytes(bytes(range(256)) * 8)
+    for run in (finished, stopped):
+        (run / "screen.txt").write_text("setting up\n" + SCREEN)
+    return finished, stopped, checkpoint_step
+
+
+def assert_orifice_region_and_axis_column(whole, carried, before=None):
+    """The carried dump holds the frames of the whole one (those before the
+    step `before`), each with the grains of the orifice region and of the
+    column over the axis, and no other."""
+    whole = [(step, frame) for step, frame in read_dump(whole) if before is None or step < before]
+    carried = read_dump(carried)
+    assert [s for s, _ in whole] == [s for s, _ in carried] and len(whole) >= 2
+    for (_, frame), (_, part) in zip(whole, carried):
+        r2 = frame["x"] ** 2 + frame["y"] ** 2
+        orifice, column = (r2 < 0.06 ** 2) & (frame["z"] < 0.05), (r2 < 0.025 ** 2) & (frame["z"] < 0.2)
+        assert (column & ~orifice).any() and not (orifice | column).all()
+        assert list(part["id"]) == list(frame["id"][orifice | column])
+
+
+def test_a_carried_campaign_skips_its_finished_run_and_resumes_the_other_where_it_was(tmp_path):
+    finished, stopped, checkpoint_step = make_campaign(tmp_path / "machine1")
+    store = tmp_path / "store"
+    assert silo3d_carry.main(["keep", str(tmp_path / "machine1"), str(store),
+                              "--dump-cylinder", "0.025", "0.2"]) == 0
+    assert (store / finished.name / "dump.cg.xz").exists() and (store / finished.name / "screen.txt.xz").exists()
+    assert (store / "kept" / stopped.name / f"checkpoint.{checkpoint_step}.restart.xz").exists()
+    assert not (store / stopped.name).exists() and not (store / "kept" / finished.name).exists()
+
+    again = tmp_path / "machine2"
+    assert silo3d_carry.main(["restore", str(store), str(again)]) == 0
+    # the finished run: run.sh's mark, where it came from, the records as they were
+    assert (again / finished.name / "finished").exists()
+    assert (again / finished.name / "archived_in").read_text().strip() == str((store / finished.name).resolve())
+    assert (again / finished.name / "discharge.txt").read_text() == (finished / "discharge.txt").read_text()
+    assert_orifice_region_and_axis_column(finished / "dump.cg", again / finished.name / "dump.cg")
+    # the unfinished run resumes from the same step and time, with its own copy of the checkpoint
+    expected, got = checkpoint.resume_variables(stopped), checkpoint.resume_variables(again / stopped.name)
+    assert got.pop("checkpoint") == str((again / stopped.name / f"checkpoint.{checkpoint_step}.restart").resolve())
+    expected.pop("checkpoint")
+    assert got == expected and got["t_resume"] == repr(T_OPEN + 2000 * DT)
+    assert_orifice_region_and_axis_column(stopped / "dump.cg", again / stopped.name / "dump.cg",
+                                          before=checkpoint_step)
+    # both keep their cost: the campaign's table reads the same loop hours
+    for run in (finished, stopped):
+        assert silo3d_campaign.run_status(again / run.name)["cpu_hours"] == 0.1
+
+    # keeping the second machine's campaign: the restored archive is left
+    # alone, the unfinished run kept again; once it has finished, it is
+    # archived and its kept checkpoint dropped
+    mtime = (store / finished.name / "dump.cg.xz").stat().st_mtime_ns
+    assert silo3d_carry.keep(again, store) == [
+        f"{stopped.name}: unfinished, kept at its checkpoint of step {checkpoint_step} (2.00 s of discharge)"]
+    assert (store / finished.name / "dump.cg.xz").stat().st_mtime_ns == mtime
+    with open(again / stopped.name / "run.txt", "a") as run_txt:
+        run_txt.write("finished 8.5\n")
+    [line] = silo3d_carry.keep(again, store)
+    assert line.startswith(f"{stopped.name}: finished, archived")
+    assert not (store / "kept" / stopped.name).exists()
+    assert lzma.open(store / stopped.name / "screen.txt.xz", "rt").read() == "setting up\n" + SCREEN
+
+
+def test_a_kept_run_that_is_archived_too_is_not_restored_and_bad_stores_are_refused(tmp_path, capsys):
+    finished, stopped, _ = make_campaign(tmp_path / "machine1")
+    store = tmp_path / "store"
+    silo3d_carry.keep(tmp_path / "machine1", store)
+    # an archive given twice, and an unfinished "archive": refused, nothing restored
+    assert silo3d_carry.main(["restore", str(store), str(tmp_path / "a"), "--also", str(store / finished.name)]) == 2
+    assert "two archives of the same run: D0.03_f0.32_s11" in capsys.readouterr().err
+    assert silo3d_carry.main(["restore", str(store), str(tmp_path / "b"), "--also", str(stopped)]) == 2
+    assert "not a finished run's archive" in capsys.readouterr().err
+    assert not list((tmp_path / "a").glob("D*")) and not list((tmp_path / "b").glob("D*"))
+    # the same run archived elsewhere (--also) wins over its kept checkpoint
+    elsewhere = tmp_path / "elsewhere" / stopped.name
+    write_run(elsewhere, 0.0, 0.03, 11, 20.0, duration=3.0)
+    lines = silo3d_carry.restore(store, tmp_path / "c", [elsewhere])
+    assert f"{stopped.name}: kept checkpoint ignored, the run is archived" in lines
+    assert (tmp_path / "c" / stopped.name / "finished").exists()
+    assert not (tmp_path / "c" / stopped.name / "checkpoints.txt").exists()
+    # a run directory already there is left as it is
+    assert f"{finished.name}: in {tmp_path / 'c'} already, left as it is" in silo3d_carry.restore(store, tmp_path / "c")
+    assert silo3d_carry.main(["keep", str(tmp_path / "nowhere"), str(store)]) == 2
+    assert silo3d_carry.main(["keep", str(tmp_path / "machine1"), str(store), "--dump-cylinder", "0", "1"]) == 2

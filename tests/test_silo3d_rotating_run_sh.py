@@ -59,11 +59,9 @@ def test_peer_of_needs_clumps(tmp_path):
     assert result.returncode == 2 and "PEER_OF places clumps on rods" in result.stderr
 
 
-def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
-    """PACKINGS: a seed whose packing is kept (xz, with its settling's
-    run.txt) is unpacked, not settled, byte for byte; DISCHARGE_AT and
-    TRANSIENT_AT: each frequency's run lasts its own time and its Q leaves
-    out its own transient. A kept packing of other rods is refused."""
+def kept_quick_packing(tmp_path):
+    """A quick silo's rod packing settled by run.sh and kept as PACKINGS
+    wants (xz, with its settling's run.txt): (its directory, the kept one)."""
     settled = campaign(tmp_path / "rods", SHAPE="rod", FS="", DECK_VARS="quick 1 settle_time 0.3")
     assert settled.returncode == 0, settled.stdout + settled.stderr
     packing = tmp_path / "rods" / "packing_s32452843"
@@ -72,6 +70,15 @@ def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
     with open(kept / "packing_s32452843.restart.xz", "wb") as archive:
         subprocess.run(["xz", "-c", str(packing / "packing.restart")], stdout=archive, check=True)
     (kept / "packing_s32452843_run.txt").write_bytes((packing / "run.txt").read_bytes())
+    return packing, kept
+
+
+def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
+    """PACKINGS: a seed whose packing is kept (xz, with its settling's
+    run.txt) is unpacked, not settled, byte for byte; DISCHARGE_AT and
+    TRANSIENT_AT: each frequency's run lasts its own time and its Q leaves
+    out its own transient. A kept packing of other rods is refused."""
+    packing, kept = kept_quick_packing(tmp_path)
 
     run_dir = tmp_path / "campaign"
     result = campaign(run_dir, SHAPE="rod", FS="0 0.32", PACKINGS=str(kept), DISCHARGE="0.1",
@@ -119,3 +126,44 @@ def test_bad_per_frequency_settings_and_packings_are_refused(tmp_path, environme
     result = campaign(tmp_path / "runs", SHAPE="rod", FS="0 0.32", **environment)
     assert result.returncode == 2 and message in result.stderr, result.stderr
     assert not (tmp_path / "runs").exists()
+
+
+RODS_FIG2C = ROOT / "examples" / "silo3d_rotating" / "rods_fig2c.sh"
+
+
+def test_the_fig2c_driver_carries_a_finished_run_to_the_next_machine_and_analyses_each_window(tmp_path):
+    """examples/silo3d_rotating/rods_fig2c.sh on a quick silo with a protocol
+    of two frequencies: the first machine runs one of them and keeps it in
+    the store; the second restores it as done, runs the other, and
+    analyses both, each over its own window."""
+    _, kept = kept_quick_packing(tmp_path)
+    settings = {**os.environ, "SILOKIT_LIGGGHTS": str(LIGGGHTS), "PACKINGS": str(kept), "ALSO": "",
+                "STORE": str(tmp_path / "store"), "DS": "0.05", "SEEDS": "32452843", "CHECKPOINT": "0",
+                "PROTOCOL": "0 0.1 0.05  0.32 0.2 0.15", "DECK_VARS": "quick 1"}
+
+    def driver(action, run_dir, **environment):
+        result = subprocess.run(["bash", str(RODS_FIG2C), action, str(run_dir)], capture_output=True, text=True,
+                                env={**settings, **environment}, timeout=900)
+        return result, result.stdout + result.stderr
+
+    first, log = driver("run", tmp_path / "machine1", FS="0.32")
+    assert first.returncode == 0 and "D 0.05 f 0.32 seed 32452843: running 0.2 s (dumps every 0.05 s)" in log, log
+    kept_runs, log = driver("keep", tmp_path / "machine1")
+    assert kept_runs.returncode == 0 and "D0.05_f0.32_s32452843: finished, archived" in log, log
+    second, log = driver("run", tmp_path / "machine2")
+    assert second.returncode == 0, log
+    assert "D0.05_f0.32_s32452843: finished, from" in log and "D 0.05 f 0.32 seed 32452843: done before, skipped" in log
+    assert "D 0.05 f 0 seed 32452843: running 0.1 s" in log
+    runs = read_table(tmp_path / "machine2" / "analysis" / "flow_rate_runs.txt")
+    rest, turning = np.flatnonzero(runs["f"] == 0)[0], np.flatnonzero(runs["f"] == 0.32)[0]
+    assert 0.05 <= runs["t_start"][rest] < 0.06 and 0.15 <= runs["t_start"][turning] < 0.16
+    # the carried run's Q is the first machine's
+    assert read_table(tmp_path / "machine1" / "analysis" / "flow_rate_runs.txt")["Q_kg_s"][0] == runs["Q_kg_s"][turning]
+
+    wrong, log = driver("run", tmp_path / "machine3", FS="0.5")
+    assert wrong.returncode == 2 and "FS: 0.5 is not one of the protocol's frequencies ( 0 0.32)" in log
+    assert not (tmp_path / "machine3").exists()
+    wrong, log = driver("run", tmp_path / "machine3", PROTOCOL="0 8")
+    assert wrong.returncode == 2 and 'PROTOCOL needs "f discharge transient" triples' in log
+    wrong, log = driver("walk", tmp_path / "machine3")
+    assert wrong.returncode == 2 and "usage:" in log

@@ -53,6 +53,8 @@
 #            every rod (write_poses, read_poses: fix insert/poses), relaxed
 #            RELAX s in the closed silo, instead of a settled gas   [""]
 #   RELAX    s the clumps relax at the rods' poses                 [0.1]
+#   ANALYSE  0: no analysis after the runs (a driver that runs a part
+#            of a campaign analyses the whole itself)                [1]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
@@ -88,6 +90,7 @@ INPUTS="${SILOKIT_INPUTS:-$ROOT/inputs}"
 DECK="$INPUTS/silo3d_rotating/in.silo3d_rotating"
 PEER_OF="${PEER_OF:-}"
 RELAX="${RELAX:-0.1}"
+ANALYSE="${ANALYSE:-1}"
 [ -z "$PEER_OF" ] || [ "$SHAPE" = clump ] || { echo "run.sh: PEER_OF places clumps on rods: it needs SHAPE=clump" >&2; exit 2; }
 # (LIGGGHTS keeps the first -var of a name: the shape is added last, so
 # that the rods' poses can be written with the same variables)
@@ -246,6 +249,7 @@ for seed in $SEEDS; do
 done
 wait
 if [ -z "$DS" ] || [ -z "$FS" ]; then log "packings made (no D or f given: no runs)"; exit 0; fi
+[ "$ANALYSE" != 0 ] || { log "all runs done (ANALYSE=0: not analysed)"; exit 0; }
 log "all runs done; analysing"
 analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT" \
     "${TRANSIENT_ARGS[@]}"

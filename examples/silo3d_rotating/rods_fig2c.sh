@@ -1,0 +1,85 @@
+#!/bin/bash
+# The rods' campaign for the paper's Fig. 2c (doc/silo3d_rotating.md, "The
+# campaign"): D = 60 mm, L/d = 3.3, six frequencies in three packings, each
+# frequency with its own discharge and transient, two runs at a time, carried
+# from session to session (a session's machine may not outlive it) through
+# a store in the repository (analysis.silo3d_carry).
+#
+#   bash examples/silo3d_rotating/rods_fig2c.sh run  RUN_DIR
+#       puts the store's runs into RUN_DIR (finished ones as done, unfinished
+#       ones at their last checkpoint), runs what is left with run.sh and,
+#       when all are done, analyses the whole campaign into RUN_DIR/analysis
+#   bash examples/silo3d_rotating/rods_fig2c.sh keep RUN_DIR
+#       at a session's end (the runs may go on): archives the finished runs
+#       into the store and keeps the unfinished ones' last checkpoints; then
+#       commit the store
+#
+# Environment (defaults in brackets):
+#   FS, SEEDS  run only these of the protocol's frequencies, of the seeds
+#              [all: "0 0.16 0.32 0.64 0.96 1.28", "32452843 15485863 49979687"]
+#   DS         the orifice diameter, m  [0.06]
+#   PACKINGS   the kept packings        [doc/data/silo3d_rods/packings]
+#   PROTOCOL   "f discharge transient" triples, s: each frequency's run
+#              length and the start left out of Q   [the campaign's, below]
+#   STORE      the campaign's store        [doc/data/silo3d_rods_fig2c]
+#   ALSO       finished runs of the same protocol archived elsewhere in the
+#              repository, taken as done   [the four below]
+#   JOBS [2]; SILOKIT_LIGGGHTS, DECK_VARS, CHECKPOINT, PYTHON go to run.sh
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+ACTION="${1:-}"
+RUN_DIR="${2:-}"
+[ -n "$RUN_DIR" ] && { [ "$ACTION" = run ] || [ "$ACTION" = keep ]; } || {
+  echo "usage: bash examples/silo3d_rotating/rods_fig2c.sh run|keep RUN_DIR" >&2; exit 2; }
+# f = 0 and 0.16 Hz: 8 s, Q over 4-8 s (the transient lasts most of a turn
+# at 0.16 Hz); 0.32 Hz: 4 s, Q over 2-4 s; faster: 4 s, Q over 1-4 s (from
+# 0.64 turns on: the transient is over by then, tested at 0.64 Hz)
+PROTOCOL="${PROTOCOL:-0 8 4  0.16 8 4  0.32 4 2  0.64 4 1  0.96 4 1  1.28 4 1}"
+STORE="${STORE:-$ROOT/doc/data/silo3d_rods_fig2c}"
+ALSO="${ALSO-$ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0_s32452843 $ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0.16_s32452843 $ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0.16_s15485863 $ROOT/doc/data/silo3d_rods_transient/D0.06_f0.64_s32452843}"
+SEEDS="${SEEDS:-32452843 15485863 49979687}"
+DS="${DS:-0.06}"
+PACKINGS="${PACKINGS:-$ROOT/doc/data/silo3d_rods/packings}"
+PYTHON="${PYTHON:-/usr/bin/python3}"
+analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
+# the dumps keep the orifice region and the column over the axis (the
+# axial acceleration, analysis.silo3d_acceleration)
+COLUMN=(--dump-cylinder 0.025 0.2)
+
+if [ "$ACTION" = keep ]; then
+  [ -d "$RUN_DIR" ] || { echo "rods_fig2c.sh: no run directory $RUN_DIR" >&2; exit 2; }
+  analysis analysis.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
+  exit 0
+fi
+
+set -- $PROTOCOL
+[ $# -gt 0 ] && [ $(( $# % 3 )) -eq 0 ] || { echo "rods_fig2c.sh: PROTOCOL needs \"f discharge transient\" triples, got: $PROTOCOL" >&2; exit 2; }
+ALL_FS="" DISCHARGE_AT="" TRANSIENT_AT="" ANALYSIS_AT=()
+while [ $# -ge 3 ]; do
+  ALL_FS="$ALL_FS $1"
+  ANALYSIS_AT+=(--transient-at "$1" "$3")
+  shift 3
+done
+FS="${FS:-$ALL_FS}"
+for f in $FS; do
+  set -- $PROTOCOL
+  found=0
+  while [ $# -ge 3 ]; do
+    if [ "$1" = "$f" ]; then DISCHARGE_AT="$DISCHARGE_AT $1 $2" TRANSIENT_AT="$TRANSIENT_AT $1 $3" found=1; fi
+    shift 3
+  done
+  [ $found = 1 ] || { echo "rods_fig2c.sh: FS: $f is not one of the protocol's frequencies ($ALL_FS)" >&2; exit 2; }
+done
+
+analysis analysis.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
+# (DISCHARGE and TRANSIENT are each frequency's, from DISCHARGE_AT and
+# TRANSIENT_AT: run.sh needs defaults, never used)
+SHAPE=rod ASPECT=3.3 DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" \
+  DISCHARGE=1 TRANSIENT=0 DISCHARGE_AT="$DISCHARGE_AT" TRANSIENT_AT="$TRANSIENT_AT" \
+  FIELDS="$(for f in $FS; do echo -n "$DS $f "; done)" JOBS="${JOBS:-2}" ANALYSE=0 \
+  bash "$ROOT/examples/silo3d_rotating/run.sh" "$RUN_DIR"
+if ls "$RUN_DIR"/D*_f*_s* -d 2>/dev/null | while read -r run; do [ -f "$run/finished" ] || exit 1; done; then
+  analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
+else
+  echo "rods_fig2c.sh: runs left unfinished in $RUN_DIR: not analysed ('keep' carries them to the next session)"
+fi

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis import checkpoint
+from analysis import checkpoint, silo3d_carry
 from analysis.lammps_io import read_dump, read_table
 from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
@@ -90,6 +90,47 @@ def test_a_run_resumed_with_a_longer_discharge_time_goes_on_to_it_and_says_so(un
     whole = read_table(uninterrupted / "discharge.txt")
     np.testing.assert_array_equal(read_table(extended / "discharge.txt")["n_out"][:len(whole["n_out"])],
                                   whole["n_out"])      # the same run up to the old end
+
+
+def test_a_run_carried_to_another_machine_at_its_checkpoint_ends_as_the_uninterrupted_one(uninterrupted, tmp_path):
+    # analysis.silo3d_carry: a run stopped after its first checkpoint is
+    # kept in a store and restored into another directory (another
+    # machine), whose deck resumes it: the records are the uninterrupted
+    # run's, and the dump too from the checkpoint on (before it, the kept
+    # cylinder's grains)
+    listed = (uninterrupted / "checkpoints.txt").read_text().split("\n")
+    stopped = tmp_path / "machine1" / "D0.05_f0.32_s1"
+    shutil.copytree(uninterrupted, stopped)
+    (stopped / "checkpoints.txt").write_text(listed[0] + "\n")
+    run_txt = stopped / "run.txt"
+    run_txt.write_text("".join(line for line in run_txt.read_text().splitlines(keepends=True)
+                               if not line.startswith("finished")))
+    [line] = silo3d_carry.keep(tmp_path / "machine1", tmp_path / "store", [(0.01, 1.0)])
+    assert "unfinished, kept at its checkpoint" in line
+    shutil.rmtree(tmp_path / "machine1")
+    silo3d_carry.restore(tmp_path / "store", tmp_path / "machine2")
+    carried = tmp_path / "machine2" / "D0.05_f0.32_s1"
+    run_deck(carried, {**QUICK, **checkpoint.resume_variables(carried)})
+
+    for name in ("discharge.txt", "reinject.txt"):
+        whole, resumed = read_table(uninterrupted / name), read_table(carried / name)
+        assert list(whole) == list(resumed) and len(whole["step"]) == len(resumed["step"]) > 10
+        for column in whole:
+            if column == "t":
+                np.testing.assert_allclose(resumed[column], whole[column], rtol=0, atol=1e-12)
+            else:
+                np.testing.assert_array_equal(resumed[column], whole[column])
+    first_step = int(listed[0].split()[0])
+    whole, resumed = read_dump(uninterrupted / "dump.cg"), read_dump(carried / "dump.cg")
+    assert [step for step, _ in whole] == [step for step, _ in resumed]
+    for (step, frame), (_, part) in zip(whole, resumed):
+        r2 = frame["x"] ** 2 + frame["y"] ** 2
+        kept = ((r2 < 0.06 ** 2) & (frame["z"] < 0.05)) | (r2 < 0.01 ** 2)
+        expected = frame["id"] if step >= first_step else frame["id"][kept]
+        assert list(part["id"]) == list(expected)
+        if step < first_step:
+            assert 0 < kept.sum() < len(kept)
+    assert "finished" in read_run_info(carried)
 
 
 SETTLE = {"inputs": ROOT / "inputs", "quick": 1, "shape": "rod", "settle_time": 0.25,

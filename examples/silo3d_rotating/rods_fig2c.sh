@@ -78,6 +78,9 @@ SHAPE=rod ASPECT=3.3 DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" \
   DISCHARGE=1 TRANSIENT=0 DISCHARGE_AT="$DISCHARGE_AT" TRANSIENT_AT="$TRANSIENT_AT" \
   FIELDS="$(for f in $FS; do echo -n "$DS $f "; done)" JOBS="${JOBS:-2}" ANALYSE=0 \
   bash "$ROOT/examples/silo3d_rotating/run.sh" "$RUN_DIR"
+# (Q, the orifice averages and the axial acceleration are whole for every
+# run; the maps of a run restored from an archive hold only the kept
+# cylinders: its maps are the fields.npz kept beside its records, if any)
 if ls "$RUN_DIR"/D*_f*_s* -d 2>/dev/null | while read -r run; do [ -f "$run/finished" ] || exit 1; done; then
   analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
 else

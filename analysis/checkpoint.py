@@ -32,8 +32,9 @@ starts on a new one) keeps an unfinished run in the repository instead:
 `keep` writes the last checkpoint (xz), its line of checkpoints.txt,
 run.txt, the row records up to it and dump.cg's frames before it (xz; with
 --dump-cylinder only the grains with r < R and z < Z about the z axis, the
-orifice region, which keeps the orifice averages but not the maps);
-dump.contacts is not kept. `restore` unpacks KEPT into a new RUN_DIR, from
+orifice region, which keeps the orifice averages but not the maps, and
+dump_cut.txt says so: the analysis then makes the maps from the frames
+from the checkpoint on); dump.contacts is not kept. `restore` unpacks KEPT into a new RUN_DIR, from
 which `resume` (and so run.sh) goes on.
 """
 
@@ -44,7 +45,8 @@ import shutil
 import sys
 from pathlib import Path
 
-from analysis.silo3d_records import read_run_info
+from analysis.lammps_io import iter_dump
+from analysis.silo3d_records import DUMP_CUT, read_dump_cut, read_run_info, write_dump_cut
 
 CHECKPOINTS = "checkpoints.txt"
 ROW_RECORDS = ("discharge.txt", "reinject.txt")   # one row per step, step first
@@ -196,6 +198,17 @@ def keep(run_dir, kept, dump_cylinder=None):
             frames = frames_before(handle.readlines(), step)
         if dump_cylinder:
             frames = frames_in_cylinder(frames, *dump_cylinder[0], *dump_cylinder[1:])
+            # the analysis makes its maps from the frames from the checkpoint
+            # on, on the grid of the fill at the opening
+            # (a run carried before has its fill height in its dump_cut.txt)
+            _, fill_height = read_dump_cut(run_dir)
+            if fill_height is None:
+                step_open = read_run_info(run_dir, required=("step_open",))["step_open"]
+                opening = next(iter_dump(run_dir / "dump.cg", lambda s: s >= step_open), None)
+                fill_height = float(opening[1]["z"].max()) if opening else None
+            write_dump_cut(kept, dump_cylinder, whole_from=step, fill_height=fill_height)
+        elif (run_dir / DUMP_CUT).exists():       # cut before, at an earlier checkpoint
+            shutil.copyfile(run_dir / DUMP_CUT, kept / DUMP_CUT)
         with lzma.open(kept / "dump.cg.xz", "wt") as packed:
             packed.writelines(frames)
     with open(checkpoint, "rb") as source, lzma.open(kept / (checkpoint.name + ".xz"), "wb") as packed:

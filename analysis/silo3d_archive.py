@@ -11,7 +11,8 @@ kernel (4 w, w = d*/2: 2 cm for the spheres and the L/d = 3.3 rods), so
 the orifice averages, for D up to 8 cm; more cylinders can be added. A
 run whose orifice cylinder with that reach sticks out of the kept ones
 gets a warning. Neither the maps nor dump.contacts are kept (no contact
-stress from an archive). Once unpacked (`xz -dk dump.cg.xz`),
+stress from an archive); dump_cut.txt names the cylinders, and the
+analysis makes no maps from an archive. Once unpacked (`xz -dk dump.cg.xz`),
 `analysis.silo3d_rotating` reads an archive as it reads a run directory;
 `analysis.silo3d_acceleration` too, when the column over the axis is
 added (`--dump-cylinder 0.025 0.2`).
@@ -32,7 +33,7 @@ from pathlib import Path
 from analysis import coarse_grain as cg
 from analysis.checkpoint import frames_in_cylinder
 from analysis.silo3d_fields import FieldSettings
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_records import read_run_info, write_dump_cut
 
 RECORDS = ("run.txt", "discharge.txt", "reinject.txt")
 ORIFICE_REGION = (0.06, 0.05)
@@ -71,6 +72,7 @@ def archive(run_dir, archive_dir, more=()):
             shutil.copyfile(run_dir / name, archive_dir / name)
     if not (run_dir / "dump.cg").exists():
         return 0, warning
+    write_dump_cut(archive_dir, cylinders)     # every frame cut: the analysis makes no maps of it
     count = 0
     with open(run_dir / "dump.cg") as handle, lzma.open(archive_dir / "dump.cg.xz", "wt", preset=9) as packed:
         for frame in dump_frames(handle):

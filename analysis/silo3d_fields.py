@@ -16,7 +16,7 @@ import numpy as np
 from analysis import coarse_grain as cg
 from analysis.lammps_io import dump_steps, iter_dump
 from analysis.silo3d_flow import BLOCKS, CONFIDENCE, group_by_key, progress, seed_mean_ci
-from analysis.silo3d_records import frames_with_contacts, time_since_opening
+from analysis.silo3d_records import DUMP_CUT, frames_with_contacts, read_dump_cut, time_since_opening
 
 
 @dataclass
@@ -99,8 +99,18 @@ def analyse_fields(run, settings):
     frame_tau = time_since_opening(steps, run.discharge, run.info)
     flowing = set(np.flatnonzero(in_flow(frame_tau, run.flow))[::settings.orifice_every].tolist())
     windows = map_windows(run.flow.start, run.flow.end, settings.map_times, settings.map_width)
-    map_frames = pick_map_frames(frame_tau, windows, settings.map_frames)
-    z_max = settings.z_max or first_fill_height(run.path / "dump.cg", steps, frame_tau) + settings.kernel.cutoff
+    # the maps take whole frames only (a cut frame lacks the grains outside
+    # the kept cylinders); the orifice averages take every frame
+    whole_from, fill_height = read_dump_cut(run.path)
+    whole = steps >= whole_from
+    if not whole.all():
+        progress(f"{run.label}: dump.cg holds only the kept cylinders' grains " +
+                 (f"before step {whole_from}" if whole.any() else "in every frame") +
+                 f" ({DUMP_CUT}): maps from the whole frames only")
+    map_frames = pick_map_frames(np.where(whole, frame_tau, np.nan), windows, settings.map_frames)
+    if fill_height is None:
+        fill_height = first_fill_height(run.path / "dump.cg", steps, frame_tau)
+    z_max = settings.z_max or fill_height + settings.kernel.cutoff
     grid = map_grid(run, settings, z_max)
     orifice = cg.orifice_grid(run.info["D"], settings.orifice_height, settings.spacing / 2,
                               settings.arc_spacing)
@@ -111,7 +121,7 @@ def analyse_fields(run, settings):
     index_of_step = {int(s): k for k, s in reversed(list(enumerate(steps)))}
     window_frames = [[] for _ in windows]
     rows = []
-    for done, (step, particles, contacts) in enumerate(frames_with_contacts(run, steps[wanted])):
+    for done, (step, particles, contacts) in enumerate(frames_with_contacts(run, steps[wanted], whole_from)):
         k = index_of_step[step]
         if k in map_frames:
             window_frames[map_frames[k]].append(cg.cylindrical_raw_fields(grid, particles, settings.kernel, contacts))

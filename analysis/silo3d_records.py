@@ -13,6 +13,7 @@ analysis.silo3d_rotating.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -32,6 +33,10 @@ CONTACT_COLUMNS = ("x1", "y1", "z1", "x2", "y2", "z2", "id1", "id2", "periodic",
 # a grain's axis in dump.cg: the deck's rods write c_rod_axis[1-3]
 # (compute spherocylinder/axis); ox oy oz is the name other tools use
 ORIENTATION_COLUMN_SETS = (("c_rod_axis[1]", "c_rod_axis[2]", "c_rod_axis[3]"), ("ox", "oy", "oz"))
+# beside a dump.cg whose frames hold only the grains inside some cylinders
+# (an archive's, or a run's carried from a checkpoint: analysis.silo3d_archive,
+# analysis.checkpoint keep)
+DUMP_CUT = "dump_cut.txt"
 
 
 # ---------------------------------------------------------------- records
@@ -122,14 +127,52 @@ def once_each(steps):
     return wanted
 
 
-def frames_with_contacts(run, steps):
+def write_dump_cut(directory, cylinders, whole_from=None, fill_height=None):
+    """Says, in directory's dump_cut.txt, that the frames of its dump.cg
+    before the step whole_from (every frame, without it) hold only the
+    grains inside the cylinders, (R, Z) pairs: r < R and z < Z about the
+    z axis; and, for the maps' grid, the fill height at the opening (the
+    highest grain of the first frame from it on, before the cut)."""
+    lines = ["# dump.cg's frames " + ("before the step whole_from" if whole_from is not None else "(all)") +
+             " hold only the grains inside these cylinders about the z axis, r < R and z < Z:"
+             " the orifice averages are whole, the maps are not (doc/silo3d_rotating_records.md)\n"]
+    if whole_from is not None:
+        lines.append(f"whole_from {int(whole_from)}\n")
+    if fill_height is not None:
+        lines.append(f"fill_height {fill_height!r}\n")
+    lines += [f"cylinder {r!r} {z!r}\n" for r, z in cylinders]
+    (Path(directory) / DUMP_CUT).write_text("".join(lines))
+
+
+def read_dump_cut(directory):
+    """(whole_from, fill_height) of a directory's dump_cut.txt: the first
+    step from which dump.cg's frames hold every grain (0 for a whole dump,
+    without dump_cut.txt; the step of the checkpoint a carried run went on
+    from; math.inf for an archive, every frame cut), and the fill height at
+    the opening, or None."""
+    path = Path(directory) / DUMP_CUT
+    if not path.exists():
+        return 0, None
+    values = {}
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if len(words) == 2 and words[0] in ("whole_from", "fill_height"):
+            values[words[0]] = float(words[1])
+    whole_from = int(values["whole_from"]) if "whole_from" in values else math.inf
+    return whole_from, values.get("fill_height")
+
+
+def frames_with_contacts(run, steps, whole_from=0):
     """(step, cg.Particles, cg.Contacts or None) of the frames at `steps`,
-    reading dump.cg and, when present, dump.contacts side by side."""
+    reading dump.cg and, when present, dump.contacts side by side. Frames
+    before the step whole_from (read_dump_cut) have no contacts: a run
+    carried from a checkpoint has not its contact dump before it."""
     contacts_path = run.path / "dump.contacts"
-    contact_frames = iter_dump(contacts_path, once_each(steps)) if contacts_path.exists() else None
+    contact_frames = (iter_dump(contacts_path, once_each([s for s in steps if s >= whole_from]))
+                      if contacts_path.exists() else None)
     for step, columns in iter_dump(run.path / "dump.cg", once_each(steps)):
         contacts = None
-        if contact_frames is not None:
+        if contact_frames is not None and step >= whole_from:
             contact_step, contact_columns = next(contact_frames, (None, None))
             if contact_step != step:
                 raise ValueError(f"{contacts_path}: no frame of step {step} in step with dump.cg")

@@ -45,6 +45,11 @@ def test_the_archive_gives_the_full_run_s_orifice_averages_and_flow_rate(tmp_pat
             np.testing.assert_array_equal(archived[column], whole[column])
     assert (out_kept / "flow_rate_runs.md").read_text().split("\n")[1:] == \
         (out_full / "flow_rate_runs.md").read_text().split("\n")[1:]      # the title names the paths
+    # the maps: the full run's, none from the archive (its frames lack the grains outside the cylinders)
+    [label] = [path.name for path in (out_full / "runs").iterdir()]
+    assert (out_full / "runs" / label / "fields.npz").exists()
+    assert not (out_kept / "runs" / label / "fields.npz").exists()
+    assert not list((out_kept / "runs" / label).glob("map_*.png"))
 
 
 def test_a_cylinder_is_added_to_the_orifice_region_and_a_wide_orifice_is_warned_of(tmp_path, capsys):

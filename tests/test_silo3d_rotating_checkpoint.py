@@ -25,8 +25,9 @@ import numpy as np
 import pytest
 
 from analysis import checkpoint, silo3d_carry
+from analysis import silo3d_rotating as silo
 from analysis.lammps_io import read_dump, read_table
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_records import read_dump_cut, read_run_info
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -131,6 +132,28 @@ def test_a_run_carried_to_another_machine_at_its_checkpoint_ends_as_the_uninterr
         if step < first_step:
             assert 0 < kept.sum() < len(kept)
     assert "finished" in read_run_info(carried)
+
+    # the analysis of the carried run: the orifice averages are the
+    # uninterrupted run's (but the contact pressure, whose contact dump
+    # starts at the checkpoint); its maps are made of the frames from the
+    # checkpoint on, whose first window (before it) is empty
+    options = ["--transient", "0", "--map-times", "0.05", "0.25", "--map-width", "0.1", "--map-frames", "2"]
+    for source, out in ((uninterrupted, tmp_path / "out_whole"), (carried, tmp_path / "out_carried")):
+        assert silo.main([str(source), "--out", str(out), *options]) == 0
+    whole, resumed = read_table(tmp_path / "out_whole" / "orifice.txt"), read_table(tmp_path / "out_carried" / "orifice.txt")
+    assert np.isfinite(whole["p_c"]).all()
+    for column in whole:
+        if column.startswith("p_c"):
+            assert np.isnan(resumed[column]).all()
+        else:
+            np.testing.assert_array_equal(resumed[column], whole[column])
+    [label] = [path.name for path in (tmp_path / "out_whole" / "runs").iterdir()]
+    with np.load(tmp_path / "out_whole" / "runs" / label / "fields.npz") as maps:
+        assert list(maps["frames"]) == [2, 2]
+        later = maps["packing_fraction_1"]
+    with np.load(tmp_path / "out_carried" / "runs" / label / "fields.npz") as maps:
+        assert list(maps["frames"]) == [0, 2] and "packing_fraction_0" not in maps.files
+        np.testing.assert_allclose(maps["packing_fraction_1"], later, rtol=1e-12)
 
 
 SETTLE = {"inputs": ROOT / "inputs", "quick": 1, "shape": "rod", "settle_time": 0.25,
@@ -330,7 +353,11 @@ def test_a_kept_run_restored_elsewhere_resumes_from_the_same_checkpoint(tmp_path
     kept = tmp_path / "kept"
     assert checkpoint.main(["keep", str(run), str(kept), "--dump-cylinder", "0.05", "0.05"]) == 0
     assert sorted(path.name for path in kept.iterdir()) == [
-        "checkpoint.600.restart.xz", "checkpoints.txt", "discharge.txt", "dump.cg.xz", "reinject.txt", "run.txt"]
+        "checkpoint.600.restart.xz", "checkpoints.txt", "discharge.txt", "dump.cg.xz", "dump_cut.txt",
+        "reinject.txt", "run.txt"]
+    # the maps take the frames from the checkpoint on, on the grid of the fill
+    # at the opening: the highest grain of the first frame from it, before the cut
+    assert read_dump_cut(kept) == (600, 0.2)
     restored = tmp_path / "restored"
     assert checkpoint.main(["restore", str(kept), str(restored)]) == 0
     assert (restored / "checkpoint.600.restart").read_bytes() == payload

@@ -201,7 +201,7 @@ def keep(run_dir, kept, dump_cylinder=None):
             # the analysis makes its maps from the frames from the checkpoint
             # on, on the grid of the fill at the opening
             # (a run carried before has its fill height in its dump_cut.txt)
-            _, fill_height = read_dump_cut(run_dir)
+            fill_height = read_dump_cut(run_dir).fill_height
             if fill_height is None:
                 step_open = read_run_info(run_dir, required=("step_open",))["step_open"]
                 opening = next(iter_dump(run_dir / "dump.cg", lambda s: s >= step_open), None)

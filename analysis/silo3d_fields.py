@@ -97,17 +97,28 @@ def analyse_fields(run, settings):
     empty window), orifice rows)."""
     steps = dump_steps(run.path / "dump.cg")
     frame_tau = time_since_opening(steps, run.discharge, run.info)
-    flowing = set(np.flatnonzero(in_flow(frame_tau, run.flow))[::settings.orifice_every].tolist())
+    flowing = np.flatnonzero(in_flow(frame_tau, run.flow))[::settings.orifice_every]
     windows = map_windows(run.flow.start, run.flow.end, settings.map_times, settings.map_width)
-    # the maps take whole frames only (a cut frame lacks the grains outside
-    # the kept cylinders); the orifice averages take every frame
-    whole_from, fill_height = read_dump_cut(run.path)
-    whole = steps >= whole_from
+    # a cut frame (an archive's, a carried run's before its checkpoint)
+    # lacks the grains outside the kept cylinders: the maps take whole
+    # frames only, the orifice averages the cut ones too if the cylinders
+    # hold the orifice cylinder with the kernel's reach
+    cut = read_dump_cut(run.path)
+    whole = steps >= cut.whole_from
     if not whole.all():
-        progress(f"{run.label}: dump.cg holds only the kept cylinders' grains " +
-                 (f"before step {whole_from}" if whole.any() else "in every frame") +
-                 f" ({DUMP_CUT}): maps from the whole frames only")
+        reach = (0.5 * run.info["D"] + settings.kernel.cutoff, settings.orifice_height + settings.kernel.cutoff)
+        orifice_whole = cut.holds(*reach)
+        if not orifice_whole:
+            flowing = flowing[whole[flowing]]
+        progress(f"{run.label}: dump.cg holds only the grains of the cylinders " +
+                 ", ".join(f"r < {r:g} m, z < {z:g} m" for r, z in cut.cylinders) +
+                 (f" before step {cut.whole_from}" if whole.any() else " in every frame") + f" ({DUMP_CUT}): "
+                 "maps from the whole frames only; orifice averages from " +
+                 ("every frame" if orifice_whole else f"the whole frames only (they read r < {reach[0]:.3g} m, "
+                  f"z < {reach[1]:.3g} m)"))
+    flowing = set(flowing.tolist())
     map_frames = pick_map_frames(np.where(whole, frame_tau, np.nan), windows, settings.map_frames)
+    fill_height = cut.fill_height
     if fill_height is None:
         fill_height = first_fill_height(run.path / "dump.cg", steps, frame_tau)
     z_max = settings.z_max or fill_height + settings.kernel.cutoff
@@ -121,7 +132,7 @@ def analyse_fields(run, settings):
     index_of_step = {int(s): k for k, s in reversed(list(enumerate(steps)))}
     window_frames = [[] for _ in windows]
     rows = []
-    for done, (step, particles, contacts) in enumerate(frames_with_contacts(run, steps[wanted], whole_from)):
+    for done, (step, particles, contacts) in enumerate(frames_with_contacts(run, steps[wanted], cut.whole_from)):
         k = index_of_step[step]
         if k in map_frames:
             window_frames[map_frames[k]].append(cg.cylindrical_raw_fields(grid, particles, settings.kernel, contacts))

@@ -134,8 +134,9 @@ def write_dump_cut(directory, cylinders, whole_from=None, fill_height=None):
     z axis; and, for the maps' grid, the fill height at the opening (the
     highest grain of the first frame from it on, before the cut)."""
     lines = ["# dump.cg's frames " + ("before the step whole_from" if whole_from is not None else "(all)") +
-             " hold only the grains inside these cylinders about the z axis, r < R and z < Z:"
-             " the orifice averages are whole, the maps are not (doc/silo3d_rotating_records.md)\n"]
+             " hold only the grains inside these cylinders about the z axis, r < R and z < Z: no maps"
+             " from them, and orifice averages only if a cylinder holds the orifice with the kernel's reach"
+             " (doc/silo3d_rotating_records.md)\n"]
     if whole_from is not None:
         lines.append(f"whole_from {int(whole_from)}\n")
     if fill_height is not None:
@@ -144,22 +145,35 @@ def write_dump_cut(directory, cylinders, whole_from=None, fill_height=None):
     (Path(directory) / DUMP_CUT).write_text("".join(lines))
 
 
+@dataclass
+class DumpCut:
+    """What a directory's dump_cut.txt says: the first step from which
+    dump.cg's frames hold every grain (0 for a whole dump, without
+    dump_cut.txt; the step of the checkpoint a carried run went on from;
+    math.inf for an archive, every frame cut), the fill height at the
+    opening or None, and the kept cylinders, (R, Z) pairs."""
+    whole_from: float = 0
+    fill_height: float = None
+    cylinders: tuple = ()
+
+    def holds(self, radius, top):
+        """Whether the cut frames hold every grain with r < radius, z < top."""
+        return any(radius <= r and top <= z for r, z in self.cylinders)
+
+
 def read_dump_cut(directory):
-    """(whole_from, fill_height) of a directory's dump_cut.txt: the first
-    step from which dump.cg's frames hold every grain (0 for a whole dump,
-    without dump_cut.txt; the step of the checkpoint a carried run went on
-    from; math.inf for an archive, every frame cut), and the fill height at
-    the opening, or None."""
     path = Path(directory) / DUMP_CUT
     if not path.exists():
-        return 0, None
-    values = {}
+        return DumpCut()
+    values, cylinders = {}, []
     for line in path.read_text().splitlines():
         words = line.split()
         if len(words) == 2 and words[0] in ("whole_from", "fill_height"):
             values[words[0]] = float(words[1])
-    whole_from = int(values["whole_from"]) if "whole_from" in values else math.inf
-    return whole_from, values.get("fill_height")
+        elif len(words) == 3 and words[0] == "cylinder":
+            cylinders.append((float(words[1]), float(words[2])))
+    return DumpCut(int(values["whole_from"]) if "whole_from" in values else math.inf,
+                   values.get("fill_height"), tuple(cylinders))
 
 
 def frames_with_contacts(run, steps, whole_from=0):

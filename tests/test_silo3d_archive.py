@@ -65,6 +65,11 @@ def test_a_cylinder_is_added_to_the_orifice_region_and_a_wide_orifice_is_warned_
         inside = ((r2 < 0.06 ** 2) & (whole["z"] < 0.05)) | ((r2 < 0.015 ** 2) & (whole["z"] < 0.2))
         assert inside.sum() > ((r2 < 0.06 ** 2) & (whole["z"] < 0.05)).sum()      # the column adds grains
         np.testing.assert_array_equal(part["z"], whole["z"][inside])
+    # and the analysis of that archive leaves out the orifice averages,
+    # which would miss grains, rather than giving them wrong
+    assert silo.main([str(kept), "--out", str(tmp_path / "out"), "--map-frames", "2"]) == 0
+    assert "orifice averages from the whole frames only (they read r < 0.0648 m" in capsys.readouterr().out
+    assert (tmp_path / "out" / "flow_rate_runs.txt").exists() and not (tmp_path / "out" / "orifice.txt").exists()
     # the orifice of 3 cm is inside: no warning
     write_run(tmp_path / "small", 0.32, 0.03, 1, 20.0)
     assert silo3d_archive.main([str(tmp_path / "small"), str(tmp_path / "small_kept")]) == 0

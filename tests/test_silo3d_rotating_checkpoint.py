@@ -27,7 +27,7 @@ import pytest
 from analysis import checkpoint, silo3d_carry
 from analysis import silo3d_rotating as silo
 from analysis.lammps_io import read_dump, read_table
-from analysis.silo3d_records import read_dump_cut, read_run_info
+from analysis.silo3d_records import DumpCut, read_dump_cut, read_run_info
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -357,7 +357,7 @@ def test_a_kept_run_restored_elsewhere_resumes_from_the_same_checkpoint(tmp_path
         "reinject.txt", "run.txt"]
     # the maps take the frames from the checkpoint on, on the grid of the fill
     # at the opening: the highest grain of the first frame from it, before the cut
-    assert read_dump_cut(kept) == (600, 0.2)
+    assert read_dump_cut(kept) == DumpCut(600, 0.2, ((0.05, 0.05),))
     restored = tmp_path / "restored"
     assert checkpoint.main(["restore", str(kept), str(restored)]) == 0
     assert (restored / "checkpoint.600.restart").read_bytes() == payload

@@ -34,8 +34,8 @@ run.txt, the row records up to it and dump.cg's frames before it (xz; with
 --dump-cylinder only the grains with r < R and z < Z about the z axis, the
 orifice region, which keeps the orifice averages but not the maps, and
 dump_cut.txt says so: the analysis then makes the maps from the frames
-from the checkpoint on); dump.contacts is not kept. `restore` unpacks KEPT into a new RUN_DIR, from
-which `resume` (and so run.sh) goes on.
+from the checkpoint on); dump.contacts is not kept. `restore` unpacks
+KEPT into a new RUN_DIR, from which `resume` (and so run.sh) goes on.
 """
 
 import argparse

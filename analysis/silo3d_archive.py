@@ -33,7 +33,7 @@ from pathlib import Path
 from analysis import coarse_grain as cg
 from analysis.checkpoint import frames_in_cylinder
 from analysis.silo3d_fields import FieldSettings
-from analysis.silo3d_records import read_run_info, write_dump_cut
+from analysis.silo3d_records import DumpCut, read_run_info, write_dump_cut
 
 RECORDS = ("run.txt", "discharge.txt", "reinject.txt")
 ORIFICE_REGION = (0.06, 0.05)
@@ -63,7 +63,7 @@ def archive(run_dir, archive_dir, more=()):
     cylinders = [ORIFICE_REGION, *more]
     radius, top = orifice_reach(info)
     warning = None
-    if not any(radius <= r and top <= z for r, z in cylinders):
+    if not DumpCut(cylinders=tuple(cylinders)).holds(radius, top):
         warning = (f"the orifice averages read grains within r < {radius:.3g} m, z < {top:.3g} m, "
                    "beyond the kept cylinders: the archive's averages will differ from the run's")
     archive_dir.mkdir(parents=True, exist_ok=True)

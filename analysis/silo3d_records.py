@@ -162,6 +162,7 @@ class DumpCut:
 
 
 def read_dump_cut(directory):
+    """The DumpCut of a run or archive directory."""
     path = Path(directory) / DUMP_CUT
     if not path.exists():
         return DumpCut()

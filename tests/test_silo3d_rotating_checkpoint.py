@@ -39,6 +39,19 @@ def run_deck(workdir, variables, nprocs=1):
     return run_liggghts(f"include {DECK}\n", workdir, nprocs=nprocs, variables=variables)
 
 
+def assert_same_row_records(whole_dir, resumed_dir):
+    """discharge.txt and reinject.txt of a resumed run are the uninterrupted
+    run's: every count and mass to the last digit, the times to round-off."""
+    for name in ("discharge.txt", "reinject.txt"):
+        whole, resumed = read_table(whole_dir / name), read_table(resumed_dir / name)
+        assert list(whole) == list(resumed) and len(whole["step"]) == len(resumed["step"]) > 10
+        for column in whole:
+            if column == "t":
+                np.testing.assert_allclose(resumed[column], whole[column], rtol=0, atol=1e-12)
+            else:
+                np.testing.assert_array_equal(resumed[column], whole[column])
+
+
 @pytest.fixture(scope="module")
 def uninterrupted(tmp_path_factory, liggghts_binary):
     workdir = tmp_path_factory.mktemp("uninterrupted")
@@ -59,14 +72,7 @@ def test_a_run_cut_back_to_its_checkpoint_and_resumed_ends_as_the_uninterrupted_
     assert variables["checkpoint"] == str((interrupted / f"checkpoint.{first_step}.restart").resolve())
     run_deck(interrupted, {**QUICK, **variables})
 
-    for name in ("discharge.txt", "reinject.txt"):
-        whole, resumed = read_table(uninterrupted / name), read_table(interrupted / name)
-        assert list(whole) == list(resumed) and len(whole["step"]) == len(resumed["step"]) > 10
-        for column in whole:
-            if column == "t":
-                np.testing.assert_allclose(resumed[column], whole[column], rtol=0, atol=1e-12)
-            else:
-                np.testing.assert_array_equal(resumed[column], whole[column])
+    assert_same_row_records(uninterrupted, interrupted)
     assert (interrupted / "dump.cg").read_text() == (uninterrupted / "dump.cg").read_text()
     assert [step for step, _ in read_dump(interrupted / "dump.contacts")] == \
         [step for step, _ in read_dump(uninterrupted / "dump.contacts")]
@@ -113,14 +119,7 @@ def test_a_run_carried_to_another_machine_at_its_checkpoint_ends_as_the_uninterr
     carried = tmp_path / "machine2" / "D0.05_f0.32_s1"
     run_deck(carried, {**QUICK, **checkpoint.resume_variables(carried)})
 
-    for name in ("discharge.txt", "reinject.txt"):
-        whole, resumed = read_table(uninterrupted / name), read_table(carried / name)
-        assert list(whole) == list(resumed) and len(whole["step"]) == len(resumed["step"]) > 10
-        for column in whole:
-            if column == "t":
-                np.testing.assert_allclose(resumed[column], whole[column], rtol=0, atol=1e-12)
-            else:
-                np.testing.assert_array_equal(resumed[column], whole[column])
+    assert_same_row_records(uninterrupted, carried)
     first_step = int(listed[0].split()[0])
     whole, resumed = read_dump(uninterrupted / "dump.cg"), read_dump(carried / "dump.cg")
     assert [step for step, _ in whole] == [step for step, _ in resumed]

@@ -106,6 +106,15 @@ def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
     assert again.returncode == 0, again.stdout + again.stderr
     assert "D 0.05 f 0 seed 32452843: done before, skipped" in again.stdout
     assert "D 0.05 f 0.32 seed 32452843: done before with a discharge of 0.2 s, not 0.3: skipped" in again.stdout
+    # asked for one frequency only: the analysis holds that run alone, over
+    # its own window; the f = 0 run beside it is not analysed with this
+    # command's transient
+    part = campaign(run_dir, SHAPE="rod", FS="0.32", PACKINGS=str(kept), DISCHARGE="0.2", TRANSIENT="0.02",
+                    TRANSIENT_AT="0.32 0.15", DECK_VARS="quick 1 settle_time 0.3")
+    assert part.returncode == 0, part.stdout + part.stderr
+    assert "analysing the 1 runs of DS, FS and SEEDS" in part.stdout
+    runs = read_table(run_dir / "analysis" / "flow_rate_runs.txt")
+    assert runs["f"].tolist() == [0.32] and 0.15 <= runs["t_start"][0] < 0.16
 
     other = campaign(tmp_path / "longer", SHAPE="rod", ASPECT="4.0", PACKINGS=str(kept), DECK_VARS="quick 1")
     assert other.returncode != 0

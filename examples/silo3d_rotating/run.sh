@@ -1,8 +1,9 @@
 #!/bin/bash
 # Flow rate of the rotating-bottom silo (inputs/silo3d_rotating/in.silo3d_rotating,
 # the paper's silo with 10000 spheres) against the bottom's rotation
-# frequency, for a few orifice sizes, then the analysis: Q(f, D) tables,
-# Beverloo and exponential fits, plots, coarse-grained fields.
+# frequency, for a few orifice sizes, then the analysis of these runs (not
+# of others in RUN_DIR) into RUN_DIR/analysis: Q(f, D) tables, Beverloo
+# and exponential fits, plots, coarse-grained fields.
 #
 #   bash examples/silo3d_rotating/run.sh [RUN_DIR]
 #
@@ -239,9 +240,11 @@ discharge() {  # one (D, f, seed) run
 }
 
 for seed in $SEEDS; do settle "$seed"; done
+RUNS=()
 for seed in $SEEDS; do
   for D in $DS; do
     for f in $FS; do
+      RUNS+=("$RUN_DIR/D${D}_f${f}_s${seed}")
       while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
       discharge "$D" "$f" "$seed" &
     done
@@ -250,6 +253,8 @@ done
 wait
 if [ -z "$DS" ] || [ -z "$FS" ]; then log "packings made (no D or f given: no runs)"; exit 0; fi
 [ "$ANALYSE" != 0 ] || { log "all runs done (ANALYSE=0: not analysed)"; exit 0; }
-log "all runs done; analysing"
-analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" --transient "$TRANSIENT" \
+# only this command's runs: other runs in RUN_DIR (other FS, DS or SEEDS)
+# may have other windows than its TRANSIENT and TRANSIENT_AT
+log "all runs done; analysing the ${#RUNS[@]} runs of DS, FS and SEEDS"
+analysis analysis.silo3d_rotating "${RUNS[@]}" --out "$RUN_DIR/analysis" --transient "$TRANSIENT" \
     "${TRANSIENT_ARGS[@]}"

@@ -342,26 +342,40 @@ def flow_groups(runs, level=CONFIDENCE):
     return rows
 
 
+def seed_flow(runs, key):
+    """Per seed, the Q of its runs at key = (f, D) with a finite Q: {seed:
+    (Q, se, blocks)}. A seed run more than once (realizations that differ
+    at round-off) counts once, with the mean of its runs, the standard
+    error of that mean from theirs, and the fewest blocks."""
+    per_seed = {}
+    for run in runs:
+        if run.key == key and np.isfinite(run.flow.q_mass):
+            per_seed.setdefault(run.info["seed"], []).append(run.flow)
+    return {seed: (float(np.mean([r.q_mass for r in flows])),
+                   float(np.sqrt(np.sum(np.square([r.q_mass_se for r in flows]))) / len(flows)),
+                   min(r.blocks for r in flows))
+            for seed, flows in per_seed.items()}
+
+
 def paired_ratio(runs, f, f_ref, D, level=CONFIDENCE):
     """Q(f)/Q(f_ref) at the orifice D, paired by seed (the runs of one seed
     start from the same packing, so their ratio is freer of the packing's
     own noise than the ratio of the means): (mean, se, CI half width, n)
-    over the seeds that have both runs with a finite Q (the reference's
-    > 0), as in seed_mean_ci: from the spread of the per-seed ratios for
-    n >= 2; for one seed from the two runs' block standard errors,
-    propagated, with the smaller of their degrees of freedom. n = 0: NaNs."""
-    reference = {r.info["seed"]: r for r in runs if r.key == (f_ref, D)
-                 and np.isfinite(r.flow.q_mass) and r.flow.q_mass > 0}
+    over the n seeds that have both with a finite Q (the reference's > 0;
+    a seed run more than once: seed_flow), as in seed_mean_ci: from the
+    spread of the per-seed ratios for n >= 2; for one seed from the two
+    Q's block standard errors, propagated, with the smaller of their
+    degrees of freedom. n = 0: NaNs."""
+    reference = {seed: flow for seed, flow in seed_flow(runs, (f_ref, D)).items() if flow[0] > 0}
     ratios, ses, dofs = [], [], []
-    for run in runs:
-        ref = reference.get(run.info["seed"])
-        if run.key != (f, D) or ref is None or not np.isfinite(run.flow.q_mass):
+    for seed, (q, q_se, blocks) in seed_flow(runs, (f, D)).items():
+        if seed not in reference:
             continue
-        ratio = run.flow.q_mass / ref.flow.q_mass
+        q_ref, q_ref_se, ref_blocks = reference[seed]
+        ratio = q / q_ref
         ratios.append(ratio)
-        ses.append(ratio * np.hypot(run.flow.q_mass_se / run.flow.q_mass if run.flow.q_mass > 0 else np.nan,
-                                    ref.flow.q_mass_se / ref.flow.q_mass))
-        dofs.append(min(run.flow.blocks, ref.flow.blocks) - 1)
+        ses.append(ratio * np.hypot(q_se / q if q > 0 else np.nan, q_ref_se / q_ref))
+        dofs.append(min(blocks, ref_blocks) - 1)
     if not ratios:
         return np.nan, np.nan, np.nan, 0
     return (*seed_mean_ci(ratios, ses, dofs, level), len(ratios))

@@ -336,6 +336,23 @@ def test_relative_change_from_rest_is_paired_by_seed_by_hand():
     assert one["change_ci"] == pytest.approx(2.262157162740992 * se, rel=1e-12)
 
 
+def test_a_seed_run_twice_counts_once_in_the_paired_change():
+    """Two realizations of one packing at 0.32 Hz (Q 1.1 and 1.3) against
+    its one run at rest: one seed, whose Q is their mean 1.2 with the
+    standard error of that mean, hypot(0.1, 0.3)/2; its blocks the
+    fewer (8, so t with 7 degrees of freedom)."""
+    runs = [flow_run(0.0, 0.06, 1, 1.0, 0.05), flow_run(0.32, 0.06, 1, 1.1, 0.1),
+            flow_run(0.32, 0.06, 1, 1.3, 0.3, blocks=8)]
+    ratio, se, half, n = silo3d_flow.paired_ratio(runs, 0.32, 0.0, 0.06)
+    q_se = math.hypot(0.1, 0.3) / 2
+    expected_se = 1.2 * math.hypot(q_se / 1.2, 0.05 / 1.0)
+    assert (n, ratio, se) == (1, pytest.approx(1.2), pytest.approx(expected_se, rel=1e-12))
+    assert half == pytest.approx(2.3646242510102993 * expected_se, rel=1e-12)   # t(0.975, 7 dof)
+    # and the same run at rest twice (Q 1.0, 1.0): still one seed
+    ratio, _, _, n = silo3d_flow.paired_ratio(runs + [flow_run(0.0, 0.06, 1, 1.0, 0.05)], 0.32, 0.0, 0.06)
+    assert (n, ratio) == (1, pytest.approx(1.2))
+
+
 # ------------------------------------------------------------------ fits
 
 D_VALUES = np.array([0.03, 0.04, 0.05, 0.06, 0.07])

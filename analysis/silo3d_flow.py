@@ -51,18 +51,39 @@ def analysis_window(tau, mass_out, total_mass, reinject, transient=TRANSIENT,
     return start, max(start, end)
 
 
-def no_flow_intervals(tau, n_out, start, end, min_gap=MIN_GAP):
-    """Intervals longer than min_gap without a grain out, as an (k, 2)
-    array. Marks are the window's ends and every sample in (start, end]
-    whose n_out exceeds the previous sample's (a grain left in the sampling
-    interval ending there); a no-flow interval is the span between two
-    consecutive marks, so it is known to one sampling interval."""
+def flow_spans(tau, n_out, start, end):
+    """The spans between consecutive marks, as an (k, 2) array: marks are
+    the window's ends and every sample in (start, end] whose n_out exceeds
+    the previous sample's (a grain left in the sampling interval ending
+    there). A span is a time without a grain out, known to one sampling
+    interval."""
     tau = np.asarray(tau, dtype=float)
     n_out = np.asarray(n_out, dtype=float)
     exits = tau[1:][(n_out[1:] > n_out[:-1]) & (tau[1:] > start) & (tau[1:] <= end)]
     marks = np.unique(np.concatenate([[start], exits, [end]]))
-    spans = np.column_stack([marks[:-1], marks[1:]])
+    return np.column_stack([marks[:-1], marks[1:]])
+
+
+def no_flow_intervals(tau, n_out, start, end, min_gap=MIN_GAP):
+    """The spans without a grain out (flow_spans) longer than min_gap."""
+    spans = flow_spans(tau, n_out, start, end)
     return spans[spans[:, 1] - spans[:, 0] > min_gap]
+
+
+def pauses(tau, n_out, start, end):
+    """How intermittent the flow of [start, end] is, short of the no-flow
+    intervals that Q leaves out: (the longest span without a grain out,
+    flow_spans; the share of the sampling intervals ending in (start, end]
+    in which no grain left). NaNs for a window without a sampling
+    interval."""
+    tau = np.asarray(tau, dtype=float)
+    n_out = np.asarray(n_out, dtype=float)
+    inside = (tau[1:] > start) & (tau[1:] <= end)
+    if not inside.any():
+        return np.nan, np.nan
+    spans = flow_spans(tau, n_out, start, end)
+    idle = (n_out[1:] == n_out[:-1])[inside]
+    return float(np.max(spans[:, 1] - spans[:, 0])), float(np.mean(idle))
 
 
 def effective_time(tau, start, gaps):
@@ -100,6 +121,11 @@ class FlowRate:
     # shows a trend well beyond its error, which q_mass_se does not show
     trend: float = np.nan
     trend_se: float = np.nan
+    # how intermittent the flow is inside the window (pauses): the longest
+    # time without a grain out, s, and the share of sampling intervals
+    # without one (the rods' flow under slow rotation comes in bursts)
+    longest_pause: float = np.nan
+    idle_share: float = np.nan
 
     @property
     def removed(self):
@@ -152,8 +178,10 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
              for name, cumulative in inside_window.items()}
     se_2x = block_error(tau_eff, inside_window["mass"], duration, blocks // 2) if blocks >= 4 else np.nan
     trend, trend_se = block_trend(tau_eff, inside_window["mass"], duration, blocks)
+    longest_pause, idle_share = pauses(tau, n_out, start, end)
     return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged,
-                    q_mass_se_2x=se_2x, trend=trend, trend_se=trend_se)
+                    q_mass_se_2x=se_2x, trend=trend, trend_se=trend_se, longest_pause=longest_pause,
+                    idle_share=idle_share)
 
 
 def block_error(tau_eff, cumulative, duration, blocks):

@@ -55,17 +55,20 @@ def write_table(path_stem, header, rows, title):
 def write_flow_tables(out, runs, groups, changes, fits, d, drops=()):
     header = ["f", "D", "seed", "reinject", "Q_kg_s", "Q_kg_s_se", "Q_grains_s", "Q_grains_s_se",
               "blocks", "t_start", "t_end", "T_eff", "removed", "gaps", "clogged_at_end", "stationary",
-              "Q_kg_s_se_2x", "Q_trend", "Q_trend_se"]
+              "Q_kg_s_se_2x", "Q_trend", "Q_trend_se", "longest_pause", "idle_share"]
     rows = [[r.info["f"], r.info["D"], r.info["seed"], r.info["reinject"], r.flow.q_mass, r.flow.q_mass_se,
              r.flow.q_grains, r.flow.q_grains_se, r.flow.blocks, r.flow.start, r.flow.end,
              r.flow.effective_duration, r.flow.removed, len(r.flow.gaps), int(r.flow.clogged_at_end),
-             int(r.flow.stationary), r.flow.q_mass_se_2x, r.flow.trend, r.flow.trend_se]
+             int(r.flow.stationary), r.flow.q_mass_se_2x, r.flow.trend, r.flow.trend_se,
+             r.flow.longest_pause, r.flow.idle_share]
             for r in runs]
     write_table(out / "flow_rate_runs", header, rows,
                 "Stationary flow rate per run (SI units; se = block standard error; se_2x = the same "
                 "from blocks twice as long: well above se, se is too small; Q_trend = the rate's "
                 "relative change across the window from the line through the block rates, with its se: "
-                "well beyond it, the flow is not stationary yet; times since opening). "
+                "well beyond it, the flow is not stationary yet; longest_pause = the longest time in the "
+                "window without a grain out, s, idle_share = the share of its sampling intervals "
+                "without one; times since opening). "
                 "Runs: " + ", ".join(f"{r.label} = {r.path}" for r in runs))
     write_table(out / "flow_rate_windows", ["f", "D", "seed", "t_from", "t_to", "Q_grains_s", "Q_kg_s"],
                 [[r.info["f"], r.info["D"], r.info["seed"], *row] for r in runs for row in r.windows],
@@ -437,7 +440,8 @@ def main(argv=None):
                      f"+- {flow.q_grains_se:.2g} grains/s over {flow.effective_duration:.3g} s "
                      f"({len(flow.gaps)} no-flow intervals, {flow.removed:.3g} s removed; "
                      f"se with blocks twice as long {flow.q_mass_se_2x:.2g} kg/s; "
-                     f"trend across the window {flow.trend:+.0%} +- {flow.trend_se:.0%})")
+                     f"trend across the window {flow.trend:+.0%} +- {flow.trend_se:.0%}; longest pause "
+                     f"{flow.longest_pause:.3g} s, {flow.idle_share:.0%} of the samples without a grain out)")
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")

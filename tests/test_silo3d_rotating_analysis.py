@@ -168,6 +168,16 @@ def test_stationary_rate_removes_long_no_flow_intervals_by_hand():
     # short gap, 10 grains (6.3 grains/s) fewer: the spread of the ten block
     # rates is ~6.3 sqrt(0.1 * 0.9 * 10/9) = 2.0, so se ~ 2.0/sqrt(10) = 0.63
     assert flow.q_grains_se == pytest.approx(0.63, abs=0.1)
+    # how intermittent: the longest time without a grain is the 3-s gap as
+    # seen (3.05 s); of the 1900 sampling intervals of 0.01 s ending in
+    # (1, 20], the 310 exits fall in 310 of them (one per 0.05 s)
+    assert flow.longest_pause == pytest.approx(3.05)
+    assert flow.idle_share == pytest.approx((1900 - 310) / 1900, rel=1e-12)
+    # without the long gap, the longest pause is the short one as seen,
+    # from the sample after the exit at 11.975 (11.98) to the one after
+    # the exit at 12.525 (12.53)
+    assert silo3d_flow.pauses(tau, n_out, 9.0, 20.0)[0] == pytest.approx(0.55)
+    assert np.isnan(silo3d_flow.pauses(tau, n_out, 20.0, 25.0)).all()
 
 
 def test_window_start_transient_and_end_when_nearly_empty():

@@ -1,0 +1,132 @@
+"""What the grains over the orifice do when the flow of the rotating-bottom
+silo stalls: are they a plug that the rotation carries round, or sheared?
+
+Per dump frame of a run (dump.cg), the grains over the orifice (centres at
+r < D/2 and 0 < z < `height`, default 2 cm: a rod's length above the
+plate): how many, the share of them still there one frame later (by id:
+a plug stays, a flowing region renews), their mean v_z, and their mean
+azimuthal velocity over the bottom's, v_θ/(2π f r); and the same ratio
+for the grains lying on the plate around the orifice (a ring r_in < r <
+r_out, 0 < z < `plate_height`, default 4–6 cm and 1 cm, inside the
+cylinder that the campaign's cut dumps keep). A plug that turns as the
+ring does is carried with it; the bottom slides under both.
+
+    python3 -m analysis.silo3d_orifice_plug RUN_DIR --window T_FROM T_TO ... --out DIR
+
+Writes DIR/orifice_plug.{md,txt} (per frame from the first window's start
+to the last one's end) and DIR/orifice_plug_windows.{md,txt} (per window:
+means over its frames with standard errors over frames, which are
+correlated: a frame interval of 0.05 s is shorter than a stall). Needs
+f > 0 (at rest there is no bottom speed to compare with).
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from analysis.lammps_io import iter_dump
+from analysis.silo3d_acceleration import window_frames
+from analysis.silo3d_flow import progress
+from analysis.silo3d_records import load_run, once_each
+from analysis.silo3d_rotating import write_table
+
+HEIGHT = 0.02           # m: over the orifice, a rod's length above the plate
+RING = (0.04, 0.06)     # m: the plate around a 60 mm orifice, inside the cut dumps' r < 6 cm
+PLATE_HEIGHT = 0.01     # m: grains lying on the plate
+
+COLUMNS = ["t", "n_over", "stayed", "vz_over", "turn_over", "n_ring", "turn_ring"]
+
+
+def azimuthal_velocity(columns):
+    """(r, v_θ) of a frame's grains, v_θ positive in the sense of +z."""
+    x, y = columns["x"], columns["y"]
+    r = np.hypot(x, y)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return r, (x * columns["vy"] - y * columns["vx"]) / r
+
+
+def frame_row(columns, before_ids, D, f, height=HEIGHT, ring=RING, plate_height=PLATE_HEIGHT):
+    """One frame's numbers (COLUMNS after t) and the ids over the orifice.
+    `stayed` is the share of the grains over the orifice in the frame
+    before (before_ids; None for the first frame) that are over it still."""
+    r, v_theta = azimuthal_velocity(columns)
+    z = columns["z"]
+    over = (r < D / 2) & (z > 0) & (z < height)
+    on_ring = (r > ring[0]) & (r < ring[1]) & (z > 0) & (z < plate_height)
+    ids = set(columns["id"][over].astype(int))
+    stayed = len(ids & before_ids) / len(before_ids) if before_ids else np.nan
+    omega = 2 * np.pi * f
+
+    def turn(mask):
+        return float(np.mean(v_theta[mask] / (omega * r[mask]))) if mask.any() else np.nan
+
+    return [int(over.sum()), stayed, float(np.mean(columns["vz"][over])) if over.any() else np.nan,
+            turn(over), int(on_ring.sum()), turn(on_ring)], ids
+
+
+def window_means(rows, t_from, t_to, slack=0.0):
+    """Per column after t, the mean over the frames with t in [t_from -
+    slack, t_to + slack] and its standard error over them (NaN-free frames
+    only). The deck's frames are round(T/dt) steps apart: a frame within
+    `slack` of an end is in, as in window_frames."""
+    inside = rows[(rows[:, 0] >= t_from - slack) & (rows[:, 0] <= t_to + slack)]
+    out = [t_from, t_to, len(inside)]
+    for k in range(1, rows.shape[1]):
+        values = inside[:, k][np.isfinite(inside[:, k])]
+        out += [values.mean() if values.size else np.nan,
+                values.std(ddof=1) / np.sqrt(values.size) if values.size > 1 else np.nan]
+    return out
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_orifice_plug", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run_dir", type=Path)
+    parser.add_argument("--window", nargs=2, type=float, action="append", required=True,
+                        metavar=("T_FROM", "T_TO"), help="s since the opening; may be repeated")
+    parser.add_argument("--height", type=float, default=HEIGHT, help=f"m over the plate [{HEIGHT}]")
+    parser.add_argument("--ring", nargs=2, type=float, default=RING, metavar=("R_IN", "R_OUT"),
+                        help=f"m, the plate's ring [{RING[0]} {RING[1]}]")
+    parser.add_argument("--plate-height", type=float, default=PLATE_HEIGHT, help=f"m [{PLATE_HEIGHT}]")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    for t_from, t_to in args.window:
+        if not t_to > t_from:
+            parser.error(f"--window {t_from:g} {t_to:g}: the end must be after the start")
+    run = load_run(args.run_dir)
+    f, D = run.info["f"], run.info["D"]
+    if not f > 0:
+        parser.error(f"{args.run_dir}: f = {f:g} Hz: at rest there is no bottom speed to compare with")
+    if not (args.run_dir / "dump.cg").exists():
+        parser.error(f"{args.run_dir}: no dump.cg (an archive's dump.cg.xz: restore it first, "
+                     "python3 -m analysis.silo3d_carry restore)")
+    steps, tau = window_frames(run, min(w[0] for w in args.window), max(w[1] for w in args.window))
+    if not steps.size:
+        parser.error(f"{args.run_dir}: no dump frame in the windows")
+    time_of = dict(zip(steps.tolist(), tau.tolist()))
+    rows, before = [], None
+    for step, columns in iter_dump(args.run_dir / "dump.cg", once_each(steps)):
+        row, before = frame_row(columns, before, D, f, args.height, args.ring, args.plate_height)
+        rows.append([time_of[step]] + row)
+        progress(f"{args.run_dir.name}: t = {time_of[step]:.2f} s: {row[0]} grains over the orifice, "
+                 f"{row[1]:.0%} stayed, v_z {row[2]:+.3f} m/s, turning at {row[3]:+.2f} of the bottom "
+                 f"(the ring on the plate {row[5]:+.2f})")
+    rows = np.array(rows)
+    args.out.mkdir(parents=True, exist_ok=True)
+    where = (f"over the orifice: r < {D / 2:g} m, 0 < z < {args.height:g} m; the ring: {args.ring[0]:g} < r < "
+             f"{args.ring[1]:g} m, 0 < z < {args.plate_height:g} m; turn = v_theta / (2 pi f r)")
+    write_table(args.out / "orifice_plug", COLUMNS, rows.tolist(),
+                f"{args.run_dir}: per frame ({where}; stayed: share of the frame before's grains over the "
+                "orifice still there)")
+    header = ["t_from", "t_to", "frames"] + [x for name in COLUMNS[1:] for x in (name, f"{name}_se")]
+    slack = 0.01 * np.median(np.diff(rows[:, 0])) if len(rows) > 1 else 0.0
+    write_table(args.out / "orifice_plug_windows", header, [window_means(rows, *w, slack) for w in args.window],
+                f"{args.run_dir}: means over each window's frames, standard errors over frames ({where})")
+    progress(f"done; outputs in {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

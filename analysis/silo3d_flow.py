@@ -168,9 +168,10 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
     tau_eff = effective_time(tau[inside], start, gaps)
     duration = tau_eff[-1] if inside.any() else 0.0
     clogged = bool(len(gaps) and gaps[-1, 1] >= end)
+    longest_pause, idle_share = pauses(tau, n_out, start, end)
     if duration <= 0 or duration < min_flowing_fraction * (end - start):
         return FlowRate(np.nan, np.nan, np.nan, np.nan, blocks, start, end, max(duration, 0.0), gaps,
-                        clogged, stationary=False)
+                        clogged, stationary=False, longest_pause=longest_pause, idle_share=idle_share)
     inside_window = {name: np.asarray(cumulative, dtype=float)[inside]
                      for name, cumulative in (("mass", mass_out), ("grains", n_out))}
     rates = {name: ((cumulative[-1] - cumulative[0]) / duration,
@@ -178,7 +179,6 @@ def stationary_flow_rate(tau, n_out, mass_out, start, end, min_gap=MIN_GAP, bloc
              for name, cumulative in inside_window.items()}
     se_2x = block_error(tau_eff, inside_window["mass"], duration, blocks // 2) if blocks >= 4 else np.nan
     trend, trend_se = block_trend(tau_eff, inside_window["mass"], duration, blocks)
-    longest_pause, idle_share = pauses(tau, n_out, start, end)
     return FlowRate(*rates["mass"], *rates["grains"], blocks, start, end, duration, gaps, clogged,
                     q_mass_se_2x=se_2x, trend=trend, trend_se=trend_se, longest_pause=longest_pause,
                     idle_share=idle_share)

@@ -213,6 +213,9 @@ def test_a_clog_with_a_grain_or_two_after_it_has_no_stationary_flow():
     assert np.allclose(flow.gaps, [[0.5, 1.76]])
     assert flow.effective_duration == pytest.approx(0.24)
     assert not flow.stationary and np.isnan(flow.q_grains) and np.isnan(flow.q_mass_se)
+    # its pauses are still told: 1.26 s without a grain, and one sampling
+    # interval of the 150 in (0.5, 2] with one
+    assert (flow.longest_pause, flow.idle_share) == pytest.approx((1.26, 149 / 150))
     # without the rule, that one grain would be a flow rate of 1/0.24 grains/s
     kept = silo3d_flow.stationary_flow_rate(tau, n_out, mass_out, 0.5, 2.0, min_gap=1.0, min_flowing_fraction=0.0)
     assert kept.stationary and kept.q_grains == pytest.approx(1 / 0.24, rel=1e-9)

@@ -22,6 +22,25 @@ A = -2.0                 # m/s^2: the hand-built grains' acceleration
 FRAMES = np.arange(0, 11) * 0.05     # s since the opening
 
 
+def write_run_records(directory, f, grains, duration, reinject=1, t_open=T_OPEN, dt=DT):
+    """run.txt of a hand-built run of the deck's grains (D of this module)
+    and its discharge.txt, every 0.01 s from the opening to `duration`
+    after it, with no grain out."""
+    (directory / "run.txt").write_text(
+        f"d 0.006\nrho 620\nmass 3e-4\ng 9.8\nDc 0.19\nD {D}\nf {f}\nseed 7\nN {grains}\ndt {dt}\n"
+        f"t_open {t_open}\nreinject {reinject}\nfinished {t_open + duration}\n")
+    (directory / "discharge.txt").write_text("# step t n_out mass_out\n" + "".join(
+        f"{round((t + t_open) / dt)} {t + t_open:.10g} 0 0\n" for t in np.arange(0, duration + 1e-9, 0.01)))
+
+
+def dump_frame(tau, rows, t_open=T_OPEN, dt=DT):
+    """A dump.cg frame at tau after the opening holding `rows`
+    ("id type x y z vx vy vz radius mass" lines)."""
+    return (f"ITEM: TIMESTEP\n{round((tau + t_open) / dt)}\nITEM: NUMBER OF ATOMS\n{len(rows)}\n"
+            "ITEM: BOX BOUNDS ff ff ff\n-0.1 0.1\n-0.1 0.1\n-0.1 0.6\n"
+            "ITEM: ATOMS id type x y z vx vy vz radius mass\n" + "".join(rows))
+
+
 def write_constant_acceleration_run(directory, frames=FRAMES, twice=(3,)):
     """run.txt, discharge.txt and dump.cg of 600 grains near the axis
     (r = 5 mm) at z0 = 0 ... 0.599 m, at rest at the opening and then
@@ -32,12 +51,7 @@ def write_constant_acceleration_run(directory, frames=FRAMES, twice=(3,)):
     0.069 m would have a = +10 m/s^2). The frames of `twice` are
     written twice, as LIGGGHTS may at the set-up of a run."""
     directory.mkdir(parents=True)
-    (directory / "run.txt").write_text(
-        f"d 0.006\nrho 620\nmass 3e-4\ng 9.8\nDc 0.19\nD {D}\nf 0.16\nseed 7\nN 601\ndt {DT}\n"
-        f"t_open {T_OPEN}\nreinject 1\nfinished {T_OPEN + frames[-1]}\n")
-    taus = np.arange(0, frames[-1] + 1e-9, 0.01)
-    (directory / "discharge.txt").write_text("# step t n_out mass_out\n" + "".join(
-        f"{round((t + T_OPEN) / DT)} {t + T_OPEN:.10g} 0 0\n" for t in taus))
+    write_run_records(directory, 0.16, 601, frames[-1])
     z0 = 0.001 * np.arange(600)
     with open(directory / "dump.cg", "w") as dump:
         for k, tau in enumerate(frames):
@@ -47,10 +61,7 @@ def write_constant_acceleration_run(directory, frames=FRAMES, twice=(3,)):
                 z[0], vz[0] = 0.2, 0.0
             rows = [f"{i + 1} 1 {x[i]:.17g} 0 {z[i]:.17g} 0 0 {vz[i]:.17g} 0.003 3e-4\n" for i in range(600)]
             rows.append("601 1 0.05 0 0.1 0 0 0 0.003 3e-4\n")
-            frame = (f"ITEM: TIMESTEP\n{round((tau + T_OPEN) / DT)}\nITEM: NUMBER OF ATOMS\n601\n"
-                     "ITEM: BOX BOUNDS ff ff ff\n-0.1 0.1\n-0.1 0.1\n-0.1 0.6\n"
-                     "ITEM: ATOMS id type x y z vx vy vz radius mass\n" + "".join(rows))
-            dump.write(frame * (2 if k in twice else 1))
+            dump.write(dump_frame(tau, rows) * (2 if k in twice else 1))
     return directory
 
 
@@ -132,11 +143,7 @@ def test_a_steady_flow_gives_its_exit_speed_from_the_area(tmp_path):
     midpoints' discretisation, 0.06 %; within 0.2 %)."""
     directory = tmp_path / "run"
     directory.mkdir()
-    (directory / "run.txt").write_text(
-        f"d 0.006\nrho 620\nmass 3e-4\ng 9.8\nDc 0.19\nD {D}\nf 0\nseed 7\nN 2000\ndt {DT}\n"
-        f"t_open {T_OPEN}\nreinject 0\nfinished {T_OPEN + 0.5}\n")
-    (directory / "discharge.txt").write_text("# step t n_out mass_out\n" + "".join(
-        f"{round((t + T_OPEN) / DT)} {t + T_OPEN:.10g} 0 0\n" for t in np.arange(0, 0.5 + 1e-9, 0.01)))
+    write_run_records(directory, 0, 2000, 0.5, reinject=0)
     entry = np.arange(-1.0, 0.5, 0.0005)
     with open(directory / "dump.cg", "w") as dump:
         for tau in FRAMES:
@@ -144,10 +151,7 @@ def test_a_steady_flow_gives_its_exit_speed_from_the_area(tmp_path):
             z = 0.6 - 0.2 * age + 0.5 * A * age ** 2
             vz = -0.2 + A * age
             here = np.flatnonzero((age >= 0) & (z > -0.1))
-            dump.write(f"ITEM: TIMESTEP\n{round((tau + T_OPEN) / DT)}\nITEM: NUMBER OF ATOMS\n{here.size}\n"
-                       "ITEM: BOX BOUNDS ff ff ff\n-0.1 0.1\n-0.1 0.1\n-0.1 0.6\n"
-                       "ITEM: ATOMS id type x y z vx vy vz radius mass\n" +
-                       "".join(f"{i + 1} 1 0 0 {z[i]:.17g} 0 0 {vz[i]:.17g} 0.003 3e-4\n" for i in here))
+            dump.write(dump_frame(tau, [f"{i + 1} 1 0 0 {z[i]:.17g} 0 0 {vz[i]:.17g} 0.003 3e-4\n" for i in here]))
     profile = acc.axial_profile(load_run(directory), 0.0, 0.5, blocks=5)
     expected = math.sqrt(0.04 + 2 * abs(A) * (0.6 - 0.003))
     assert profile.exit_speed_from_area == pytest.approx(expected, rel=2e-3)

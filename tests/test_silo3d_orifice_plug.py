@@ -12,10 +12,10 @@ import pytest
 
 from analysis import silo3d_orifice_plug as plug
 from analysis.lammps_io import read_table
+from test_silo3d_acceleration import D, dump_frame, write_run_records
 
 DT = 1e-5
 T_OPEN = 0.1
-D = 0.06
 F = 0.5
 OMEGA = 2 * math.pi * F
 FRAMES = np.arange(0, 8) * 0.05     # s since the opening
@@ -36,12 +36,7 @@ def write_run(directory):
     r = 1 cm but z = 3 cm (above the region), one at r = 5 cm, z = 2 cm
     (above the plate), one at r = 8 cm on the plate (outside the ring)."""
     directory.mkdir(parents=True)
-    (directory / "run.txt").write_text(
-        f"d 0.006\nrho 620\nmass 3e-4\ng 9.8\nDc 0.19\nD {D}\nf {F}\nseed 7\nN 23\ndt {DT}\n"
-        f"t_open {T_OPEN}\nreinject 1\nfinished {T_OPEN + FRAMES[-1]}\n")
-    taus = np.arange(0, FRAMES[-1] + 1e-9, 0.01)
-    (directory / "discharge.txt").write_text("# step t n_out mass_out\n" + "".join(
-        f"{round((t + T_OPEN) / DT)} {t + T_OPEN:.10g} 0 0\n" for t in taus))
+    write_run_records(directory, F, 23, FRAMES[-1], t_open=T_OPEN, dt=DT)
     with open(directory / "dump.cg", "w") as dump:
         for k, tau in enumerate(FRAMES):
             replaced = 2 * max(0, k - 3)            # from the 5th frame on, two more new ids each frame
@@ -50,9 +45,7 @@ def write_run(directory):
             ring = [grain(20 + j, 0.05, 0.6 * OMEGA * tau + j * math.pi / 6, 0.005, 0.6) for j in range(12)]
             others = [grain(40, 0.01, 0.0, 0.03, 1.0), grain(41, 0.05, 0.0, 0.02, 1.0), grain(42, 0.08, 0.0, 0.005, 1.0)]
             rows = over + ring + others
-            dump.write(f"ITEM: TIMESTEP\n{round((tau + T_OPEN) / DT)}\nITEM: NUMBER OF ATOMS\n{len(rows)}\n"
-                       "ITEM: BOX BOUNDS ff ff ff\n-0.1 0.1\n-0.1 0.1\n-0.1 0.6\n"
-                       "ITEM: ATOMS id type x y z vx vy vz radius mass\n" + "".join(rows))
+            dump.write(dump_frame(tau, rows, t_open=T_OPEN, dt=DT))
     return directory
 
 

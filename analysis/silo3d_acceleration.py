@@ -102,6 +102,13 @@ def grain_accelerations(a, b, interval, jump=JUMP, place="midpoint"):
     return np.hypot(x, y), z, 0.5 * (vza + vzb), (vzb - vza) / interval, moved
 
 
+def frame_slack(tau):
+    """How far from a window's end a frame at the times tau may be and be
+    in: 1 % of the frames' spacing (the deck's frames are round(T/dt)
+    steps apart, not exactly T)."""
+    return 0.01 * np.median(np.diff(tau)) if np.size(tau) > 1 else 0.0
+
+
 def window_frames(run, t_from, t_to):
     """Steps and times since the opening of run's dump.cg frames within
     [t_from, t_to], each step once (a frame may be written twice). The
@@ -109,7 +116,7 @@ def window_frames(run, t_from, t_to):
     within 1 % of their spacing of the window's ends is in."""
     steps = np.unique(dump_steps(run.path / "dump.cg"))
     tau = time_since_opening(steps, run.discharge, run.info)
-    slack = 0.01 * np.median(np.diff(tau)) if tau.size > 1 else 0.0
+    slack = frame_slack(tau)
     inside = (tau >= t_from - slack) & (tau <= t_to + slack)
     return steps[inside], tau[inside]
 

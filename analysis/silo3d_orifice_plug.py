@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.lammps_io import iter_dump
-from analysis.silo3d_acceleration import window_frames
+from analysis.silo3d_acceleration import frame_slack, window_frames
 from analysis.silo3d_flow import progress
 from analysis.silo3d_records import load_run, once_each
 from analysis.silo3d_rotating import write_table
@@ -69,8 +69,7 @@ def frame_row(columns, before_ids, D, f, height=HEIGHT, ring=RING, plate_height=
 def window_means(rows, t_from, t_to, slack=0.0):
     """Per column after t, the mean over the frames with t in [t_from -
     slack, t_to + slack] and its standard error over them (NaN-free frames
-    only). The deck's frames are round(T/dt) steps apart: a frame within
-    `slack` of an end is in, as in window_frames."""
+    only); slack: frame_slack, as in window_frames."""
     inside = rows[(rows[:, 0] >= t_from - slack) & (rows[:, 0] <= t_to + slack)]
     out = [t_from, t_to, len(inside)]
     for k in range(1, rows.shape[1]):
@@ -121,7 +120,7 @@ def main(argv=None):
                 f"{args.run_dir}: per frame ({where}; stayed: share of the frame before's grains over the "
                 "orifice still there)")
     header = ["t_from", "t_to", "frames"] + [x for name in COLUMNS[1:] for x in (name, f"{name}_se")]
-    slack = 0.01 * np.median(np.diff(rows[:, 0])) if len(rows) > 1 else 0.0
+    slack = frame_slack(rows[:, 0])
     write_table(args.out / "orifice_plug_windows", header, [window_means(rows, *w, slack) for w in args.window],
                 f"{args.run_dir}: means over each window's frames, standard errors over frames ({where})")
     progress(f"done; outputs in {args.out}")

@@ -156,10 +156,18 @@ def first_fill_height(cg_path, steps, frame_tau):
     return float(columns["z"].max())
 
 
+def block_standard_error(series, blocks=BLOCKS):
+    """std(ddof=1)/sqrt(B) of the means of B consecutive blocks of a
+    series of frames; nan when there are fewer frames than blocks."""
+    if not series.size >= blocks > 1:
+        return np.nan
+    block_means = [block.mean() for block in np.array_split(series, blocks)]
+    return np.std(block_means, ddof=1) / np.sqrt(blocks)
+
+
 def orifice_summary(rows, blocks=BLOCKS):
     """Per-run means of the orifice time series and their block standard
-    errors (std(ddof=1)/sqrt(B) of B consecutive blocks of frames; nan
-    when there are fewer frames than blocks)."""
+    errors (block_standard_error)."""
     summary = {}
     if not rows:
         return summary
@@ -167,11 +175,7 @@ def orifice_summary(rows, blocks=BLOCKS):
         if name == "t":
             continue
         series = np.array([row[name] for row in rows], dtype=float)
-        se = np.nan
-        if series.size >= blocks > 1:
-            block_means = [block.mean() for block in np.array_split(series, blocks)]
-            se = np.std(block_means, ddof=1) / np.sqrt(blocks)
-        summary[name] = (float(series.mean()), float(se))
+        summary[name] = (float(series.mean()), float(block_standard_error(series, blocks)))
     return summary
 
 

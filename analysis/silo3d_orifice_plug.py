@@ -15,9 +15,14 @@ ring does is carried with it; the bottom slides under both.
 
 Writes DIR/orifice_plug.{md,txt} (per frame from the first window's start
 to the last one's end) and DIR/orifice_plug_windows.{md,txt} (per window:
-means over its frames with standard errors over frames, which are
-correlated: a frame interval of 0.05 s is shorter than a stall). Needs
-f > 0 (at rest there is no bottom speed to compare with).
+means over its frames with block standard errors, std(ddof=1)/sqrt(B) of
+the means of B consecutive blocks of frames, and the grains' residence
+over the orifice, frame spacing / (1 - stayed)). Successive frames share
+most of their grains, so errors over single frames would understate;
+blocks longer than the residence are nearly independent. Where a window's
+blocks are shorter than the residence (a stall: the plug stays longer
+than the window), even the block errors understate, and the analysis says
+so. Needs f > 0 (at rest there is no bottom speed to compare with).
 """
 
 import argparse
@@ -28,6 +33,7 @@ import numpy as np
 
 from analysis.lammps_io import iter_dump
 from analysis.silo3d_acceleration import frame_slack, window_frames
+from analysis.silo3d_fields import block_standard_error
 from analysis.silo3d_flow import progress
 from analysis.silo3d_records import load_run, once_each
 from analysis.silo3d_rotating import write_table
@@ -35,6 +41,7 @@ from analysis.silo3d_rotating import write_table
 HEIGHT = 0.02           # m: over the orifice, a rod's length above the plate
 RING = (0.04, 0.06)     # m: the plate around a 60 mm orifice, inside the cut dumps' r < 6 cm
 PLATE_HEIGHT = 0.01     # m: grains lying on the plate
+BLOCKS = 4              # blocks per window: of ~0.2 s in the 0.7 s windows of a stall and the flow around it
 
 COLUMNS = ["t", "n_over", "stayed", "vz_over", "turn_over", "n_ring", "turn_ring"]
 
@@ -66,16 +73,20 @@ def frame_row(columns, before_ids, D, f, height=HEIGHT, ring=RING, plate_height=
             turn(over), int(on_ring.sum()), turn(on_ring)], ids
 
 
-def window_means(rows, t_from, t_to, slack=0.0):
-    """Per column after t, the mean over the frames with t in [t_from -
-    slack, t_to + slack] and its standard error over them (NaN-free frames
-    only); slack: frame_slack, as in window_frames."""
+def window_means(rows, t_from, t_to, slack=0.0, blocks=BLOCKS):
+    """[t_from, t_to, frames, residence] and, per column after t, the mean
+    over the frames with t in [t_from - slack, t_to + slack] (NaN-free
+    frames only) and its block standard error (NaN with fewer such frames
+    than blocks); slack: frame_slack, as in window_frames. residence: the
+    frame spacing over 1 - the window's mean `stayed` (inf if all stayed)."""
     inside = rows[(rows[:, 0] >= t_from - slack) & (rows[:, 0] <= t_to + slack)]
-    out = [t_from, t_to, len(inside)]
+    stayed_frames = inside[:, COLUMNS.index("stayed")]
+    stayed = np.nanmean(stayed_frames) if np.isfinite(stayed_frames).any() else np.nan
+    spacing = np.median(np.diff(rows[:, 0])) if len(rows) > 1 else np.nan
+    out = [t_from, t_to, len(inside), spacing / (1 - stayed) if stayed < 1 else np.inf]
     for k in range(1, rows.shape[1]):
         values = inside[:, k][np.isfinite(inside[:, k])]
-        out += [values.mean() if values.size else np.nan,
-                values.std(ddof=1) / np.sqrt(values.size) if values.size > 1 else np.nan]
+        out += [values.mean() if values.size else np.nan, block_standard_error(values, blocks)]
     return out
 
 
@@ -89,11 +100,14 @@ def main(argv=None):
     parser.add_argument("--ring", nargs=2, type=float, default=RING, metavar=("R_IN", "R_OUT"),
                         help=f"m, the plate's ring [{RING[0]} {RING[1]}]")
     parser.add_argument("--plate-height", type=float, default=PLATE_HEIGHT, help=f"m [{PLATE_HEIGHT}]")
+    parser.add_argument("--blocks", type=int, default=BLOCKS, help=f"blocks per window for the errors [{BLOCKS}]")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     for t_from, t_to in args.window:
         if not t_to > t_from:
             parser.error(f"--window {t_from:g} {t_to:g}: the end must be after the start")
+    if args.blocks < 2:
+        parser.error(f"--blocks {args.blocks}: a standard error needs at least 2 blocks")
     run = load_run(args.run_dir)
     f, D = run.info["f"], run.info["D"]
     if not f > 0:
@@ -119,10 +133,16 @@ def main(argv=None):
     write_table(args.out / "orifice_plug", COLUMNS, rows.tolist(),
                 f"{args.run_dir}: per frame ({where}; stayed: share of the frame before's grains over the "
                 "orifice still there)")
-    header = ["t_from", "t_to", "frames"] + [x for name in COLUMNS[1:] for x in (name, f"{name}_se")]
+    header = ["t_from", "t_to", "frames", "residence"] + [x for name in COLUMNS[1:] for x in (name, f"{name}_se")]
     slack = frame_slack(rows[:, 0])
-    write_table(args.out / "orifice_plug_windows", header, [window_means(rows, *w, slack) for w in args.window],
-                f"{args.run_dir}: means over each window's frames, standard errors over frames ({where})")
+    windows = [window_means(rows, *w, slack, args.blocks) for w in args.window]
+    for t_from, t_to, _, residence in (w[:4] for w in windows):
+        if residence > (t_to - t_from) / args.blocks:
+            progress(f"{t_from:g}-{t_to:g} s: the grains stay over the orifice {residence:.2g} s, longer than a "
+                     f"block ({(t_to - t_from) / args.blocks:.2g} s): its standard errors understate")
+    write_table(args.out / "orifice_plug_windows", header, windows,
+                f"{args.run_dir}: means over each window's frames, block standard errors ({args.blocks} blocks "
+                f"of consecutive frames); residence: frame spacing / (1 - stayed), s ({where})")
     progress(f"done; outputs in {args.out}")
     return 0
 

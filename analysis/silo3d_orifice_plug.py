@@ -83,7 +83,7 @@ def window_means(rows, t_from, t_to, slack=0.0, blocks=BLOCKS):
     stayed_frames = inside[:, COLUMNS.index("stayed")]
     stayed = np.nanmean(stayed_frames) if np.isfinite(stayed_frames).any() else np.nan
     spacing = np.median(np.diff(rows[:, 0])) if len(rows) > 1 else np.nan
-    out = [t_from, t_to, len(inside), spacing / (1 - stayed) if stayed < 1 else np.inf]
+    out = [t_from, t_to, len(inside), np.inf if stayed >= 1 else spacing / (1 - stayed)]   # NaN stays NaN
     for k in range(1, rows.shape[1]):
         values = inside[:, k][np.isfinite(inside[:, k])]
         out += [values.mean() if values.size else np.nan, block_standard_error(values, blocks)]

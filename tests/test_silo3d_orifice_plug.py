@@ -2,8 +2,8 @@
 (analysis.silo3d_orifice_plug), on a hand-built run at f = 0.5 Hz: a plug
 over the orifice turning rigidly at 0.3 of the bottom's angular speed,
 whose grains stay for the first frames and are then replaced a quarter
-at a time, falling faster frame by frame; a ring of grains on the plate turning at 0.6; grains outside
-both regions that must not count."""
+at a time, falling faster frame by frame; a ring of grains on the plate
+turning at 0.6; grains outside both regions that must not count."""
 
 import math
 
@@ -98,3 +98,13 @@ def test_what_it_cannot_measure_is_refused(tmp_path, capsys, change, message):
     with pytest.raises(SystemExit) as stop:
         plug.main([str(run), "--window", *window, "--blocks", change.get("blocks", "2"), "--out", str(tmp_path / "out")])
     assert stop.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_a_window_with_no_frame_before_has_no_residence():
+    """The first frame has no `stayed` (no frame before): a window holding
+    only it has an unknown residence, not an infinite one; a window where
+    every grain stayed has an infinite one."""
+    rows = np.array([[0.0, 8, np.nan, -0.1, 0.3, 12, 0.6],
+                     [0.05, 8, 1.0, -0.1, 0.3, 12, 0.6]])
+    assert math.isnan(plug.window_means(rows, 0.0, 0.01)[3])
+    assert plug.window_means(rows, 0.04, 0.06)[3] == math.inf

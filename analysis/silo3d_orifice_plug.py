@@ -73,12 +73,13 @@ def frame_row(columns, before_ids, D, f, height=HEIGHT, ring=RING, plate_height=
             turn(over), int(on_ring.sum()), turn(on_ring)], ids
 
 
-def window_means(rows, t_from, t_to, slack=0.0, blocks=BLOCKS):
+def window_means(rows, t_from, t_to, blocks=BLOCKS):
     """[t_from, t_to, frames, residence] and, per column after t, the mean
-    over the frames with t in [t_from - slack, t_to + slack] (NaN-free
-    frames only) and its block standard error (NaN with fewer such frames
-    than blocks); slack: frame_slack, as in window_frames. residence: the
+    over the frames within [t_from, t_to] (NaN-free frames only; a frame
+    within frame_slack of an end is in, as in window_frames) and its block
+    standard error (NaN with fewer such frames than blocks). residence: the
     frame spacing over 1 - the window's mean `stayed` (inf if all stayed)."""
+    slack = frame_slack(rows[:, 0])
     inside = rows[(rows[:, 0] >= t_from - slack) & (rows[:, 0] <= t_to + slack)]
     stayed_frames = inside[:, COLUMNS.index("stayed")]
     stayed = np.nanmean(stayed_frames) if np.isfinite(stayed_frames).any() else np.nan
@@ -134,8 +135,7 @@ def main(argv=None):
                 f"{args.run_dir}: per frame ({where}; stayed: share of the frame before's grains over the "
                 "orifice still there)")
     header = ["t_from", "t_to", "frames", "residence"] + [x for name in COLUMNS[1:] for x in (name, f"{name}_se")]
-    slack = frame_slack(rows[:, 0])
-    windows = [window_means(rows, *w, slack, args.blocks) for w in args.window]
+    windows = [window_means(rows, *w, args.blocks) for w in args.window]
     for t_from, t_to, _, residence in (w[:4] for w in windows):
         if residence > (t_to - t_from) / args.blocks:
             progress(f"{t_from:g}-{t_to:g} s: the grains stay over the orifice {residence:.2g} s, longer than a "

@@ -102,22 +102,29 @@ def grain_accelerations(a, b, interval, jump=JUMP, place="midpoint"):
     return np.hypot(x, y), z, 0.5 * (vza + vzb), (vzb - vza) / interval, moved
 
 
-def frame_slack(tau):
-    """How far from a window's end a frame at the times tau may be and be
-    in: 1 % of the frames' spacing (the deck's frames are round(T/dt)
-    steps apart, not exactly T)."""
-    return 0.01 * np.median(np.diff(tau)) if np.size(tau) > 1 else 0.0
+def frame_spacing(tau):
+    """The frames' spacing at the times tau (their median step; NaN for
+    fewer than two frames)."""
+    return float(np.median(np.diff(tau))) if np.size(tau) > 1 else np.nan
+
+
+def in_window(tau, t_from, t_to):
+    """Which of the frames at the times tau lie within [t_from, t_to]. The
+    deck's frames are round(T/dt) steps apart, not exactly T: a frame
+    within 1 % of their spacing of an end is in."""
+    tau = np.asarray(tau, dtype=float)
+    spacing = frame_spacing(tau)
+    slack = 0.01 * spacing if np.isfinite(spacing) else 0.0
+    return (tau >= t_from - slack) & (tau <= t_to + slack)
 
 
 def window_frames(run, t_from, t_to):
     """Steps and times since the opening of run's dump.cg frames within
-    [t_from, t_to], each step once (a frame may be written twice). The
-    deck's frames are round(T/dt) steps apart, not exactly T: a frame
-    within 1 % of their spacing of the window's ends is in."""
+    [t_from, t_to] (in_window), each step once (a frame may be written
+    twice)."""
     steps = np.unique(dump_steps(run.path / "dump.cg"))
     tau = time_since_opening(steps, run.discharge, run.info)
-    slack = frame_slack(tau)
-    inside = (tau >= t_from - slack) & (tau <= t_to + slack)
+    inside = in_window(tau, t_from, t_to)
     return steps[inside], tau[inside]
 
 

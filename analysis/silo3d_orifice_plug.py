@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.lammps_io import iter_dump
-from analysis.silo3d_acceleration import frame_slack, window_frames
+from analysis.silo3d_acceleration import frame_spacing, in_window, window_frames
 from analysis.silo3d_fields import block_standard_error
 from analysis.silo3d_flow import progress
 from analysis.silo3d_records import load_run, once_each
@@ -75,15 +75,14 @@ def frame_row(columns, before_ids, D, f, height=HEIGHT, ring=RING, plate_height=
 
 def window_means(rows, t_from, t_to, blocks=BLOCKS):
     """[t_from, t_to, frames, residence] and, per column after t, the mean
-    over the frames within [t_from, t_to] (NaN-free frames only; a frame
-    within frame_slack of an end is in, as in window_frames) and its block
-    standard error (NaN with fewer such frames than blocks). residence: the
-    frame spacing over 1 - the window's mean `stayed` (inf if all stayed)."""
-    slack = frame_slack(rows[:, 0])
-    inside = rows[(rows[:, 0] >= t_from - slack) & (rows[:, 0] <= t_to + slack)]
+    over the frames within [t_from, t_to] (in_window, as window_frames;
+    NaN-free frames only) and its block standard error (NaN with fewer
+    such frames than blocks). residence: the frame spacing over 1 - the
+    window's mean `stayed` (inf if all stayed)."""
+    inside = rows[in_window(rows[:, 0], t_from, t_to)]
     stayed_frames = inside[:, COLUMNS.index("stayed")]
     stayed = np.nanmean(stayed_frames) if np.isfinite(stayed_frames).any() else np.nan
-    spacing = np.median(np.diff(rows[:, 0])) if len(rows) > 1 else np.nan
+    spacing = frame_spacing(rows[:, 0])
     out = [t_from, t_to, len(inside), np.inf if stayed >= 1 else spacing / (1 - stayed)]   # NaN stays NaN
     for k in range(1, rows.shape[1]):
         values = inside[:, k][np.isfinite(inside[:, k])]

@@ -35,6 +35,19 @@ file(WRITE "${manifest}" "${names}")
 # default list of several hundred combinations.
 file(WRITE "${LIGGGHTS_BUILD_SRC}/style_contact_model.whitelist" "")
 
+# Make.sh stamps version_liggghts.h with the date and the user's name each
+# time it runs; we put a stable text in its place, so that the build output
+# is reproducible (ccache then serves universe.cpp, its only user). The
+# header is set aside while Make.sh runs and put back, with its old time,
+# when our text is unchanged: a reconfigure (tools/build.sh runs one every
+# time) then recompiles nothing, where a rewritten header would recompile
+# universe.cpp and, with PGO, train again and recompile everything.
+set(version_header "${LIGGGHTS_BUILD_SRC}/version_liggghts.h")
+set(version_kept "${LIGGGHTS_WORK_DIR}/.silokit-version_liggghts.h")
+if(EXISTS "${version_header}")
+  file(RENAME "${version_header}" "${version_kept}")
+endif()
+
 foreach(what style models)
   execute_process(COMMAND sh Make.sh ${what}
                   WORKING_DIRECTORY "${LIGGGHTS_BUILD_SRC}"
@@ -44,12 +57,18 @@ foreach(what style models)
   endif()
 endforeach()
 
-# Make.sh stamps version_liggghts.h with the date and the user's name; put a
-# stable text in its place so that the build output is reproducible (ccache
-# then serves universe.cpp, its only user, from the cache).
 file(READ "${LIGGGHTS_BUILD_SRC}/version_liggghts.txt" liggghts_version)
 file(READ "${LIGGGHTS_BUILD_SRC}/version_liggghts_branch.txt" liggghts_branch)
 string(STRIP "${liggghts_version}" liggghts_version)
 string(STRIP "${liggghts_branch}" liggghts_branch)
-file(WRITE "${LIGGGHTS_BUILD_SRC}/version_liggghts.h"
-     "#define LIGGGHTS_VERSION \"${liggghts_branch} ${liggghts_version}, with silokit styles\"\n")
+set(version_text "#define LIGGGHTS_VERSION \"${liggghts_branch} ${liggghts_version}, with silokit styles\"\n")
+set(kept_text "")
+if(EXISTS "${version_kept}")
+  file(READ "${version_kept}" kept_text)
+endif()
+if(kept_text STREQUAL version_text)
+  file(RENAME "${version_kept}" "${version_header}")
+else()
+  file(REMOVE "${version_kept}")
+  file(WRITE "${version_header}" "${version_text}")
+endif()

@@ -90,3 +90,34 @@ def test_a_pgo_tree_configures_with_its_instrumented_target_and_training_step(tm
                              capture_output=True, text=True).stdout
     for target in ("liggghts", "liggghts_instrumented", "pgo_profile"):
         assert f"... {target}\n" in targets
+
+
+@pytest.mark.skipif(not TARBALL.exists(), reason=f"{TARBALL} (fetched by the default build) is absent")
+def test_a_reconfigure_leaves_the_version_header_as_it_was(tmp_path):
+    """tools/build.sh configures every time, and LIGGGHTS' Make.sh rewrites
+    version_liggghts.h with the date each time it runs: the header must come
+    out with our stable text and, when that text is unchanged, its old time
+    (else universe.cpp recompiles and, with PGO, everything after a new
+    training)."""
+    build = tmp_path / "build"
+    command = ["cmake", "-S", str(ROOT), "-B", str(build), f"-DLIGGGHTS_TARBALL={TARBALL}",
+               "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_USE_VTK=OFF"]
+    header = build / "liggghts" / "src" / "version_liggghts.h"
+    stable = '#define LIGGGHTS_VERSION "LIGGGHTS-PUBLIC 3.8.0, with silokit styles"\n'
+
+    first = subprocess.run(command, capture_output=True, text=True)
+    assert first.returncode == 0, first.stdout + first.stderr
+    assert header.read_text() == stable
+    os.utime(header, (1_000_000, 1_000_000))
+    again = subprocess.run(command, capture_output=True, text=True)
+    assert again.returncode == 0, again.stdout + again.stderr
+    assert header.read_text() == stable and header.stat().st_mtime == 1_000_000
+
+    # a header with another text (a tree configured by an older silokit) is
+    # replaced, with a new time
+    header.write_text('#define LIGGGHTS_VERSION "compiled yesterday"\n')
+    os.utime(header, (1_000_000, 1_000_000))
+    third = subprocess.run(command, capture_output=True, text=True)
+    assert third.returncode == 0, third.stdout + third.stderr
+    assert header.read_text() == stable and header.stat().st_mtime > 1_000_000
+    assert not (build / "liggghts" / ".silokit-version_liggghts.h").exists()

@@ -5,6 +5,7 @@ records a run directory holds (run.txt, discharge.txt, screen.txt).
 - t / T: the time since the opening of discharge.txt's last row, and the
   discharge the run is set to (run.txt's last `discharge_time`);
 - status: finished (run.sh's `finished` file), or running/stopped at t;
+  clogged when the deck stopped it at a clog (run.txt's `clogged`);
 - loop h: LIGGGHTS' loop times in screen.txt (which run.sh appends to
   across resumptions, so the chunks run again after an interruption
   count), times the processes. These are wall-clock hours: with a core
@@ -60,7 +61,8 @@ def run_status(run_dir):
     per_second = cpu / 3600 / simulated if simulated > 0 else float("nan")
     finished = (run_dir / "finished").exists()
     return {"run": run_dir.name, "f": info["f"], "D": info["D"], "seed": int(info["seed"]), "t": t,
-            "length": length, "finished": finished, "cpu_hours": cpu / 3600, "per_second": per_second,
+            "length": length, "finished": finished, "clogged": info.get("clogged"),
+            "cpu_hours": cpu / 3600, "per_second": per_second,
             "left": 0.0 if finished else max(length - t, 0.0) * per_second}
 
 
@@ -89,6 +91,8 @@ def main(argv=None):
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         status = "finished" if r["finished"] else f"at {r['t']:.2f} s"
+        if r["clogged"] is not None:
+            status += f", clogged (stopped at {r['t']:.2f} s)"
         print(f"| {r['run']} | {r['f']:g} | {r['D']:g} | {r['seed']} | {r['t']:.2f} / {r['length']:g} | {status} "
               f"| {r['cpu_hours']:.2f} | {r['per_second']:.2f} | {r['left']:.2f} |")
     done = sum(r["finished"] for r in rows)

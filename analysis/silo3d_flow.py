@@ -11,7 +11,7 @@ doc/silo3d_rotating_records.md (the record format too); runs come from
 analysis.silo3d_records.load_run.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import optimize, stats
@@ -323,12 +323,26 @@ def fit_exponential(D, Q, sigma):
 
 def analyse_flow(run, transient=TRANSIENT, min_gap=MIN_GAP, end_fraction=END_FRACTION, blocks=BLOCKS,
                  min_flowing_fraction=MIN_FLOWING_FRACTION):
+    """run's FlowRate (also kept as run.flow). A run the deck stopped at a
+    clog (run.txt's `clogged`: at rest, no grain out for its clog window)
+    is clogged at its end, whether or not it stopped inside the window."""
     total_mass = run.info["N"] * run.info["mass"]
     start, end = analysis_window(run.tau, run.discharge["mass_out"], total_mass,
                                  bool(run.info["reinject"]), transient, end_fraction)
     run.flow = stationary_flow_rate(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
                                     start, end, min_gap, blocks, min_flowing_fraction)
+    if "clogged" in run.info:
+        run.flow = replace(run.flow, clogged_at_end=True)
     return run.flow
+
+
+def last_exit(tau, n_out):
+    """The time of the first sample at which n_out has its final value:
+    by then the last grain had left (NaN if none left)."""
+    n_out = np.asarray(n_out)
+    if n_out.size == 0 or n_out[-1] <= 0:
+        return np.nan
+    return float(np.asarray(tau, dtype=float)[np.argmax(n_out >= n_out[-1])])
 
 
 def run_labels(runs):

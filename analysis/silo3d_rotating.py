@@ -26,7 +26,7 @@ from analysis import coarse_grain as cg
 from analysis.lammps_io import iter_dump
 from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
-                                  beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups,
+                                  beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups, last_exit,
                                   progress, run_labels, smoothed_rate, window_rates)
 from analysis.silo3d_records import key_value, load_run
 
@@ -442,9 +442,16 @@ def main(argv=None):
                      f"se with blocks twice as long {flow.q_mass_se_2x:.2g} kg/s; "
                      f"trend across the window {flow.trend:+.0%} +- {flow.trend_se:.0%}; longest pause "
                      f"{flow.longest_pause:.3g} s, {flow.idle_share:.0%} of the samples without a grain out)")
+        elif np.isnan(flow.start):
+            progress(f"{label}: no stationary flow: the run ended at {run.tau[-1]:.3g} s, before its window "
+                     f"starts ({transient_of(run, args):g} s after the opening); no Q")
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")
+        if "clogged" in run.info:
+            progress(f"{label}: clogged at rest: the deck stopped it at {run.tau[-1]:.3g} s after the opening; "
+                     f"its last grain had left by {last_exit(run.tau, run.discharge['n_out']):.3g} s "
+                     f"({run.discharge['n_out'][-1]:.0f} out)")
         try:
             run.windows = window_rates(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
                                        args.window_width)

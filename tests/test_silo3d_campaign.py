@@ -39,6 +39,15 @@ def test_progress_cost_and_what_is_left_by_hand(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "| D0.06_f0.16_s1 | 0.16 | 0.06 | 1 | 2.00 / 8 | at 2.00 s | 1.00 | 0.50 | 3.00 |" in out
     assert "1 of 2 runs finished; 1.5 loop hours spent, 3.0 left" in out
+    # a run the deck stopped at a clog (run.txt's `clogged`): finished at
+    # 1.5 s of its 8, nothing left
+    write_run(campaign / "D0.06_f0_s2", 0.0, 2, 8.0, 1.5, [(900, 1, 1000)], finished=True)
+    with open(campaign / "D0.06_f0_s2" / "run.txt", "a") as run_txt:
+        run_txt.write("clogged 1.5\nfinished 1.5\n")
+    clogged = silo3d_campaign.run_status(campaign / "D0.06_f0_s2")
+    assert clogged["clogged"] == 1.5 and clogged["left"] == 0.0 and rest["clogged"] is None
+    assert silo3d_campaign.main([str(campaign)]) == 0
+    assert "| D0.06_f0_s2 | 0 | 0.06 | 2 | 1.50 / 8 | finished, clogged (stopped at 1.50 s) |" in capsys.readouterr().out
     # a run directory given itself; nothing to show is an error
     assert silo3d_campaign.run_dirs([campaign / "D0.06_f0_s1"]) == [campaign / "D0.06_f0_s1"]
     assert silo3d_campaign.main([str(tmp_path / "empty")]) == 2

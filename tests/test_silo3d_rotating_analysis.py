@@ -221,6 +221,27 @@ def test_a_clog_with_a_grain_or_two_after_it_has_no_stationary_flow():
     assert kept.stationary and kept.q_grains == pytest.approx(1 / 0.24, rel=1e-9)
 
 
+def test_a_run_the_deck_stopped_at_a_clog_is_clogged_whatever_its_window(tmp_path):
+    # the deck at rest stops a clogged run 0.5 s after its last grain and
+    # says `clogged t` in run.txt: 20 grains/s up to 1.0 s (exits up to
+    # 0.975 s, seen at the sample 0.98), stopped at 1.5 s. With a transient
+    # of 4 s its window would start after its end: no Q, and clogged; with
+    # one of 0.5 s it flowed for 0.48 s of 1.0 s (< half): no Q, clogged
+    exits = regular_exits(20.0, 1.0)
+    tau, n_out, mass_out = record(exits, 1.5)
+    assert silo3d_flow.last_exit(tau, n_out) == pytest.approx(0.98)
+    assert np.isnan(silo3d_flow.last_exit(tau, np.zeros_like(n_out)))
+    run = silo3d_records.Run(tmp_path, {"N": 400, "mass": 1e-3, "reinject": 1, "clogged": 1.5},
+                             {"n_out": n_out, "mass_out": mass_out}, tau)
+    for transient in (4.0, 0.5):
+        flow = silo3d_flow.analyse_flow(run, transient=transient, min_gap=0.4)
+        assert flow.clogged_at_end and not flow.stationary and np.isnan(flow.q_mass)
+    # the same record without the deck's word: the window of 4 s is empty,
+    # not a clog it saw
+    del run.info["clogged"]
+    assert not silo3d_flow.analyse_flow(run, transient=4.0).clogged_at_end
+
+
 def test_block_error_of_a_poisson_flow():
     # Poisson exits at 50 grains/s for 200 s: the count in T has variance
     # 50 T, so se(Q) = sqrt(50 / 200) = 0.5 grains/s. With 40 blocks the

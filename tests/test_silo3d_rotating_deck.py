@@ -173,6 +173,48 @@ def test_a_saved_packing_opens_at_once_when_read(run, tmp_path):
         assert not (tmp_path / "other" / "discharge.txt").exists()
 
 
+def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path):
+    """At f = 0 with reinjection, an orifice of 2 d clogs within a few
+    grains and nothing can open it: the deck stops once no grain has left
+    for clog_window = 0.5 s (no sooner than 0.6 s after the opening, when
+    fix reinject's rate has a whole window), writes `clogged t` before
+    `finished t`, and its records are those of the same run with
+    clog_stop 0 up to the stop, which then runs to its end without one
+    more grain out. With the bottom turning the deck never stops for a
+    pause: that run goes to its end."""
+    run(quick_deck(write_packing=1, discharge_time=0.01), subdir="settle")
+    # (the runs that go on stop at 0.8 s, past the earliest clog stop, 0.65 s)
+    common = dict(read_packing=1, packing="../settle/packing.restart", D=0.02, reinject=1)
+    output = run(quick_deck(discharge_time=1.2, **common), subdir="rest")
+    run(quick_deck(clog_stop=0, discharge_time=0.8, **common), subdir="on")
+    run(quick_deck(f=0.32, discharge_time=0.8, **common), subdir="turning")
+
+    params = read_run_info(tmp_path / "rest", required=())
+    record = read_table(tmp_path / "rest" / "discharge.txt")
+    assert "clogged: no grain out for 0.5 s at f = 0" in output
+    t_stop = params["finished"]
+    assert params["clogged"] == t_stop == pytest.approx(record["t"][-1], abs=0.011)
+    outs = np.flatnonzero(np.diff(record["n_out"]) > 0)
+    t_last_out = record["t"][outs[-1] + 1] if outs.size else 0.0   # the record a grain first shows in
+    # stopped at the first chunk end (0.05 s) past 0.5 s without a grain,
+    # and not within the first 0.6 s
+    assert t_stop - t_last_out >= 0.5 - 0.011
+    assert t_stop <= max(t_last_out + 0.5, 0.6) + 0.05 + 0.011
+    assert t_stop < 1.2 - 0.1
+
+    on = read_table(tmp_path / "on" / "discharge.txt")
+    assert "clogged" not in read_run_info(tmp_path / "on", required=())
+    assert on["t"][-1] == pytest.approx(0.8, abs=0.011)
+    prefix = len(record["t"])
+    np.testing.assert_array_equal(on["t"][:prefix], record["t"])
+    np.testing.assert_array_equal(on["n_out"][:prefix], record["n_out"])
+    assert on["n_out"][-1] == record["n_out"][-1]
+
+    turning = read_table(tmp_path / "turning" / "discharge.txt")
+    assert "clogged" not in read_run_info(tmp_path / "turning", required=())
+    assert turning["t"][-1] == pytest.approx(0.8, abs=0.011)
+
+
 def test_a_seed_equal_to_the_grain_template_s_is_refused_with_its_message(run):
     """The deck's seed must differ from the seeds of its particle template
     and distribution (86028121, 86028157): LIGGGHTS' insert/pack refuses

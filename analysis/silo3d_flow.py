@@ -331,7 +331,7 @@ def analyse_flow(run, transient=TRANSIENT, min_gap=MIN_GAP, end_fraction=END_FRA
                                  bool(run.info["reinject"]), transient, end_fraction)
     run.flow = stationary_flow_rate(run.tau, run.discharge["n_out"], run.discharge["mass_out"],
                                     start, end, min_gap, blocks, min_flowing_fraction)
-    if "clogged" in run.info:
+    if run.clogged_at_rest:
         run.flow = replace(run.flow, clogged_at_end=True)
     return run.flow
 

@@ -214,6 +214,12 @@ class Run:
         return "finished" in self.info
 
     @property
+    def clogged_at_rest(self):
+        """The deck writes `clogged <t>` before `finished` when it stopped
+        the run at a clog at rest (its clog_stop)."""
+        return "clogged" in self.info
+
+    @property
     def key(self):
         """(f, D) rounded so that equal deck values group together."""
         return (key_value(self.info["f"]), key_value(self.info["D"]))

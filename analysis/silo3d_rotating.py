@@ -448,7 +448,7 @@ def main(argv=None):
         else:
             progress(f"{label}: no stationary flow: it flowed for {flow.effective_duration:.3g} s of the "
                      f"{flow.end - flow.start:.3g} s window ({len(flow.gaps)} no-flow intervals); no Q")
-        if "clogged" in run.info:
+        if run.clogged_at_rest:
             progress(f"{label}: clogged at rest (run.txt says so): stopped at {run.tau[-1]:.3g} s after the opening; "
                      f"its last grain had left by {last_exit(run.tau, run.discharge['n_out']):.3g} s "
                      f"({run.discharge['n_out'][-1]:.0f} out)")

@@ -215,6 +215,17 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
     assert turning["t"][-1] == pytest.approx(0.8, abs=0.011)
 
 
+@pytest.mark.parametrize("switch, value", [("clog_stop", 2), ("reinject", -1), ("resume", 0.5)])
+def test_a_switch_other_than_0_or_1_is_refused_with_its_name(run, switch, value):
+    """The deck reads some switches as `== 1` and others as a truth value:
+    clog_stop 2 would be off in the first and on in the second, so it is
+    refused before anything is built."""
+    with pytest.raises(LiggghtsError) as caught:
+        run(quick_deck(**{switch: value}))
+    assert f"in.silo3d_rotating: ERROR: {switch} is 0 or 1, not {value}" in caught.value.output
+    assert "Created" not in caught.value.output    # stopped before the box
+
+
 def test_a_seed_equal_to_the_grain_template_s_is_refused_with_its_message(run):
     """The deck's seed must differ from the seeds of its particle template
     and distribution (86028121, 86028157): LIGGGHTS' insert/pack refuses

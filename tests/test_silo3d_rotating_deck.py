@@ -217,9 +217,10 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
 
 @pytest.mark.parametrize("switch, value", [("clog_stop", 2), ("reinject", -1), ("resume", 0.5)])
 def test_a_switch_other_than_0_or_1_is_refused_with_its_name(run, switch, value):
-    """The deck reads some switches as `== 1` and others as a truth value:
-    clog_stop 2 would be off in the first and on in the second, so it is
-    refused before anything is built."""
+    """The deck reads some switches as `== 1` and others as a truth value,
+    where a 2 would be off in the first and on in the second: any value
+    but 0 or 1 is refused, with the switch's name, before anything is
+    built."""
     with pytest.raises(LiggghtsError) as caught:
         run(quick_deck(**{switch: value}))
     assert f"in.silo3d_rotating: ERROR: {switch} is 0 or 1, not {value}" in caught.value.output

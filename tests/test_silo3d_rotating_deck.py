@@ -54,6 +54,13 @@ def discharge_atoms(output):
     return [row[2] for row in discharge_rows(output)]
 
 
+def ranks(output):
+    """The number of MPI ranks LIGGGHTS ran on: the product of its
+    processor grid (`1 by 2 by 1 MPI processor grid`)."""
+    grid = re.search(r"(\d+) by (\d+) by (\d+) MPI processor grid", output)
+    return math.prod(int(n) for n in grid.groups())
+
+
 def done_line(output):
     """The deck's last line, `silo3d_rotating: done at t = T s: N grains
     (M kg) out since t_open`, as (T, N). Numbers only: the echoed print
@@ -113,7 +120,7 @@ def test_quick_deck_discharges_with_consistent_records(serial_run):
 def test_two_ranks_give_the_same_flow_rate(serial_run, tmp_path, run):
     workdir, _ = serial_run
     output = run(quick_deck(), nprocs=2)
-    assert "by 1 MPI processor grid" in output
+    assert ranks(output) == 2
     serial = read_table(workdir / "discharge.txt")
     parallel = read_table(tmp_path / "discharge.txt")
     t_open = read_run_info(tmp_path, required=())["t_open"]
@@ -181,7 +188,11 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
     `finished t`, and its records are those of the same run with
     clog_stop 0 up to the stop, which then runs to its end without one
     more grain out. With the bottom turning the deck never stops for a
-    pause: that run goes to its end."""
+    pause: that run goes to its end. Two MPI ranks follow the same rule
+    (the stop reads fix reinject's count, summed over the ranks): their
+    trajectory is another one (forces summed in another order), so the
+    two-rank run may clog later or not at all; either way it stops if and
+    only if a pause of 0.5 s came."""
     run(quick_deck(write_packing=1, discharge_time=0.01), subdir="settle")
     # (the runs that go on stop at 0.8 s, past the earliest clog stop, 0.65 s)
     common = dict(read_packing=1, packing="../settle/packing.restart", D=0.02, reinject=1)
@@ -189,18 +200,35 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
     run(quick_deck(clog_stop=0, discharge_time=0.8, **common), subdir="on")
     run(quick_deck(f=0.32, discharge_time=0.8, **common), subdir="turning")
 
-    params = read_run_info(tmp_path / "rest", required=())
-    record = read_table(tmp_path / "rest" / "discharge.txt")
-    assert "clogged: no grain out for 0.5 s at f = 0" in output
-    t_stop = params["finished"]
-    assert params["clogged"] == t_stop == pytest.approx(record["t"][-1], abs=0.011)
-    outs = np.flatnonzero(np.diff(record["n_out"]) > 0)
-    t_last_out = record["t"][outs[-1] + 1] if outs.size else 0.0   # the record a grain first shows in
-    # stopped at the first chunk end (0.05 s) past 0.5 s without a grain,
-    # and not within the first 0.6 s
-    assert t_stop - t_last_out >= 0.5 - 0.011
-    assert t_stop <= max(t_last_out + 0.5, 0.6) + 0.05 + 0.011
-    assert t_stop < 1.2 - 0.1
+    def assert_stopped_at_the_clog(subdir, output, discharge_time):
+        params = read_run_info(tmp_path / subdir, required=())
+        record = read_table(tmp_path / subdir / "discharge.txt")
+        assert "clogged: no grain out for 0.5 s at f = 0" in output
+        t_stop = params["finished"]
+        assert params["clogged"] == t_stop == pytest.approx(record["t"][-1], abs=0.011)
+        outs = np.flatnonzero(np.diff(record["n_out"]) > 0)
+        t_last_out = record["t"][outs[-1] + 1] if outs.size else 0.0   # the record a grain first shows in
+        # stopped at the first chunk end (0.05 s) past 0.5 s without a grain,
+        # and not within the first 0.6 s
+        assert t_stop - t_last_out >= 0.5 - 0.011
+        assert t_stop <= max(t_last_out + 0.5, 0.6) + 0.05 + 0.011
+        assert t_stop < discharge_time - 0.1
+        return record
+
+    record = assert_stopped_at_the_clog("rest", output, 1.2)
+    if has_mpirun():
+        output = run(quick_deck(discharge_time=1.5, **common), nprocs=2, subdir="rest_two_ranks")
+        assert ranks(output) == 2
+        if "clogged" in read_run_info(tmp_path / "rest_two_ranks", required=()):
+            assert_stopped_at_the_clog("rest_two_ranks", output, 1.5)
+        else:
+            # no stop: no pause long enough to contain a whole empty window
+            # at a chunk end (0.5 + 0.05 s), and the run reached its end
+            flowing = read_table(tmp_path / "rest_two_ranks" / "discharge.txt")
+            assert flowing["t"][-1] == pytest.approx(1.5, abs=0.011)
+            firsts = flowing["t"][np.flatnonzero(np.diff(flowing["n_out"]) > 0) + 1]
+            pauses = np.diff(np.concatenate(([0.0], firsts, [flowing["t"][-1]])))
+            assert pauses.max() < 0.5 + 0.05 + 0.011
 
     on = read_table(tmp_path / "on" / "discharge.txt")
     assert "clogged" not in read_run_info(tmp_path / "on", required=())

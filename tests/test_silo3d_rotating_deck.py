@@ -61,6 +61,12 @@ def ranks(output):
     return math.prod(int(n) for n in grid.groups())
 
 
+def out_times(record):
+    """The times of the records in which n_out has grown since the record
+    before: when grains first show as out (to the records' 0.01 s)."""
+    return record["t"][np.flatnonzero(np.diff(record["n_out"]) > 0) + 1]
+
+
 def done_line(output):
     """The deck's last line, `silo3d_rotating: done at t = T s: N grains
     (M kg) out since t_open`, as (T, N). Numbers only: the echoed print
@@ -206,8 +212,8 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
         assert "clogged: no grain out for 0.5 s at f = 0" in output
         t_stop = params["finished"]
         assert params["clogged"] == t_stop == pytest.approx(record["t"][-1], abs=0.011)
-        outs = np.flatnonzero(np.diff(record["n_out"]) > 0)
-        t_last_out = record["t"][outs[-1] + 1] if outs.size else 0.0   # the record a grain first shows in
+        outs = out_times(record)
+        t_last_out = outs[-1] if outs.size else 0.0
         # stopped at the first chunk end (0.05 s) past 0.5 s without a grain,
         # and not within the first 0.6 s
         assert t_stop - t_last_out >= 0.5 - 0.011
@@ -226,8 +232,7 @@ def test_a_clog_at_rest_stops_the_run_and_a_turning_bottom_runs_on(run, tmp_path
             # at a chunk end (0.5 + 0.05 s), and the run reached its end
             flowing = read_table(tmp_path / "rest_two_ranks" / "discharge.txt")
             assert flowing["t"][-1] == pytest.approx(1.5, abs=0.011)
-            firsts = flowing["t"][np.flatnonzero(np.diff(flowing["n_out"]) > 0) + 1]
-            pauses = np.diff(np.concatenate(([0.0], firsts, [flowing["t"][-1]])))
+            pauses = np.diff(np.concatenate(([0.0], out_times(flowing), [flowing["t"][-1]])))
             assert pauses.max() < 0.5 + 0.05 + 0.011
 
     on = read_table(tmp_path / "on" / "discharge.txt")

@@ -251,6 +251,23 @@ def acceleration_changes(data_dir):
     return out
 
 
+# ---------------------------------------------------------------- orifice averages
+
+def markdown_rows(path):
+    """The rows of the Markdown table in `path` (the analysis' `.md`
+    tables: a title, then one table) as dicts of floats."""
+    lines = [line for line in Path(path).read_text().splitlines() if line.startswith("|")]
+    header = [cell.strip() for cell in lines[0].strip("|").split("|")]
+    return [dict(zip(header, (float(cell) for cell in line.strip("|").split("|")))) for line in lines[2:]]
+
+
+def order_by_frequency(data_dir, name="orifice_three_packings.md"):
+    """{f: (<S> cylindrical, its se)} over the packings, from the campaign's
+    orifice table (each f over its own window: 4-8 s at 0 and 0.16 Hz,
+    2-4 s at 0.32 Hz, 1-4 s above)."""
+    return {row["f"]: (row["S"], row["S_se"]) for row in markdown_rows(data_dir / "silo3d_rods_fig2c" / name)}
+
+
 # ---------------------------------------------------------------- tables in doc/data
 
 def _window(window):
@@ -361,7 +378,7 @@ TABLES = {
 # ---------------------------------------------------------------- the page's rows
 
 def _pct(value, se):
-    return f"{100 * value:+.0f} ± {100 * se:.0f} %"
+    return f"{100 * value:+.0f} ± {100 * se:.0f} %".replace("-", "−")
 
 
 def results_rows(data_dir=DATA_DIR):
@@ -452,10 +469,13 @@ def results_rows(data_dir=DATA_DIR):
                     "the same window in both runs of each pair", "agrees", PAGE_SECTIONS["acceleration"]))
 
     # rods, the order at the orifice
-    rows.append(Row("rods: ⟨S⟩ at the orifice rises with f above the minimum (Fig. 9d)",
+    order = order_by_frequency(data_dir)
+    rows.append(Row("rods, D = 60 mm: order ⟨S⟩ at the orifice against f (Fig. 9d)",
                     "falls under a slow rotation, then rises with f to 1.28 Hz",
-                    "falls, then rises from 0.16 to 0.64 Hz only (cylindrical average; flat in the Cartesian one)",
-                    "f = 0, 0.16: 4–8 s; 0.32: 2–4 s; faster: 1–4 s (three packings)", "open",
+                    ", ".join(f"{order[f][0]:.3f}" for f in FREQUENCIES) + " at 0 … 1.28 Hz (± "
+                    f"{min(v[1] for v in order.values()):.3f}–{max(v[1] for v in order.values()):.3f}; "
+                    "cylindrical average, 3 packings, 2 at rest): falls, rises to 0.64 Hz only",
+                    "each f over its own window: 0, 0.16 Hz 4–8 s; 0.32 Hz 2–4 s; faster 1–4 s", "open",
                     PAGE_SECTIONS["order"]))
     return rows
 

@@ -480,6 +480,39 @@ def results_rows(data_dir=DATA_DIR):
     return rows
 
 
+# ---------------------------------------------------------------- figure
+
+FIGURE = "doc/img/silo3d_rods_Q_vs_f_same_window.png"
+
+
+def plot_same_window(data_dir, path):
+    """Q(f) of the rods at D = 60 mm, each packing over 2-4 s and 4-8 s,
+    with the mean over the packings per window."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")
+    markers = {"1st": "o", "2nd": "s", "3rd": "^"}
+    for window, colour, shift in (((2, 4), "tab:blue", -0.012), ((4, 8), "tab:red", 0.012)):
+        rates = frequency_rates(data_dir, window)
+        for f, members in rates.items():
+            for packing, rate in members:
+                ax.errorbar(f + shift, rate.q, yerr=rate.se, fmt=markers[packing], color=colour, alpha=0.45,
+                            ms=4, capsize=2)
+        fs = sorted(rates)
+        means = [np.mean([r.q for _, r in rates[f]]) for f in fs]
+        ax.plot(np.array(fs) + shift, means, "-", color=colour, label=f"mean over the packings, {_window(window)}")
+    for packing, marker in markers.items():
+        ax.plot([], [], marker, color="grey", label=f"{packing} packing (± block se)")
+    ax.set_xlabel("f (Hz)")
+    ax.set_ylabel("Q (kg/s)")
+    ax.set_ylim(bottom=0)
+    ax.set_title("rods L/d = 3.3, D = 60 mm: Q over one window", fontsize=10)
+    ax.legend(fontsize=7)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 # ---------------------------------------------------------------- command line
 
 def main(argv=None):
@@ -491,8 +524,13 @@ def main(argv=None):
     action.add_argument("--write", action="store_true", help="write the same-window tables into doc/data")
     action.add_argument("--check", action="store_true", help="exit 1 naming the tables that differ from the records")
     action.add_argument("--print", action="store_true", help="print the tables and the page's rows")
+    action.add_argument("--figure", type=Path, metavar="PNG",
+                        help=f"plot the rods' Q(f) over 2-4 s and 4-8 s (the page's: {FIGURE})")
     parser.add_argument("--data-dir", type=Path, default=DATA_DIR, help="doc/data (default %(default)s)")
     args = parser.parse_args(argv)
+    if args.figure:
+        plot_same_window(args.data_dir, args.figure)
+        return 0
     stale = []
     for name, make in TABLES.items():
         text = make(args.data_dir)

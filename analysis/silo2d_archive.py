@@ -23,6 +23,9 @@ of height. The archive keeps:
 
 analysis.silo2d_scan reads an archive as it reads a run directory and
 gives the same table and figures (tests/test_silo2d_scan.py checks it).
+The run's dumps and restart files (the driver's state<k>.restart) are not
+kept: an archive is what doc/data holds of a finished run
+(doc/data/README.md).
 
 CLI:  python3 -m analysis.silo2d_archive RUN_DIR ARCHIVE_DIR
 """

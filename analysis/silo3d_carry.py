@@ -2,34 +2,50 @@
 next, through the repository.
 
 A session's files may not outlive it (each session can start on a new
-machine, and a run of 8 s of rods outlasts a session), so between sessions
-a campaign lives in a store directory of the repository (e.g.
-doc/data/silo3d_rods_fig2c):
+machine, and a run of 8 s of rods outlasts a session). Between sessions a
+campaign lives in two places of the repository:
 
-    STORE/<run>/        each finished run's archive (analysis.silo3d_archive:
-                        records and the dump's orifice region) and its
-                        screen.txt.xz (the loop times: the run's cost)
-    STORE/kept/<run>/   each unfinished run's last checkpoint and its records
-                        up to it (analysis.checkpoint keep), and screen.txt.xz
+    STORE/<run>/            each finished run's reduced records
+                            (analysis.silo3d_archive: run.txt, discharge.txt,
+                            reinject.txt.xz and, when the run was analysed,
+                            orifice_timeseries.md and fields.npz) and its
+                            screen.txt.xz (the loop times: the run's cost).
+                            STORE is in doc/data (e.g.
+                            doc/data/silo3d_rods_fig2c): no dumps there.
+    carry/<campaign>/<run>/ each UNFINISHED run's last checkpoint, its
+                            records up to it, its dump's frames before it
+                            (the orifice region and the --dump-cylinder
+                            ones) and screen.txt.xz (analysis.checkpoint
+                            keep). <campaign> is STORE's name; carry/ is at
+                            the top of the git work tree that holds STORE
+                            (beside STORE outside one); --carry DIR
+                            chooses another. It is emptied as the runs
+                            finish: a campaign that has ended carries
+                            nothing.
 
     python3 -m analysis.silo3d_carry keep RUN_DIR STORE [--dump-cylinder R Z ...]
-        At a session's end: archives the finished runs of RUN_DIR that STORE
-        lacks (dropping their kept checkpoint), and keeps the last checkpoint
-        of every unfinished one, in place of the one kept before. Safe
-        while the runs go on (a checkpoint is listed once it is whole, and
-        the records are cut back to it).
-    python3 -m analysis.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...]
+            [--analysis OUT] [--carry DIR]
+        Archives the finished runs of RUN_DIR that STORE lacks (with the
+        tables and fields of OUT/runs/<label>/, OUT being RUN_DIR/analysis
+        by default, when that analysis holds the run), removing their
+        carried checkpoint, and carries the last checkpoint of every
+        unfinished one, in place of the one carried before. Safe while the
+        runs go on (a checkpoint is listed once it is whole, and the
+        records are cut back to it).
+    python3 -m analysis.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...] [--carry DIR]
         On the next machine: puts each archive (STORE's and the --also
         ones, archives of the same protocol kept elsewhere in doc/data)
-        into RUN_DIR as a finished run (dump unpacked, run.sh's `finished`
-        file, `archived_in` saying where from), and restores each kept run
-        that is not archived, so that run.sh, given the campaign's
+        into RUN_DIR as a finished run (its records, run.sh's `finished`
+        file, `archived_in` saying where from), and restores each carried
+        run that is not archived, so that run.sh, given the campaign's
         variables and PACKINGS, skips the first and resumes the second.
 
---dump-cylinder: cylinders about the z axis whose grains the dumps keep
-besides the orifice region (r < 6 cm, z < 5 cm); e.g. `0.025 0.2`, the
-column over the axis of the axial acceleration (analysis.silo3d_acceleration).
-The maps need the whole dump: they are not carried.
+--dump-cylinder: cylinders about the z axis whose grains a carried run's
+dump keeps besides the orifice region (r < 6 cm, z < 5 cm); e.g.
+`0.025 0.2`, the column over the axis of the axial acceleration
+(analysis.silo3d_acceleration). A finished run's dump is not kept: analyse
+the run (analysis.silo3d_rotating RUN_DIR/D* --out RUN_DIR/analysis ...)
+before `keep` archives it.
 """
 
 import argparse
@@ -42,12 +58,22 @@ from analysis import checkpoint
 from analysis import silo3d_archive
 from analysis.silo3d_records import read_run_info
 
-KEPT = "kept"
+CARRY = "carry"
 MARK = "archived_in"      # in RUN_DIR: this finished run came from that archive
+ORIFICE_REGION = (0.06, 0.05)   # r < 6 cm, z < 5 cm: the orifice averages for D up to 8 cm
 
 
 def run_dirs(directory):
     return sorted(p for p in Path(directory).glob("D*_f*_s*") if (p / "run.txt").exists())
+
+
+def carry_dir(store):
+    """Where the unfinished runs of STORE's campaign are carried:
+    carry/<STORE's name> at the top of the git work tree that holds STORE,
+    or beside STORE (STORE/../carry/<name>) outside one."""
+    store = Path(store).resolve()
+    top = next((p for p in store.parents if (p / ".git").exists()), store.parent)
+    return top / CARRY / store.name
 
 
 def pack_screen(run_dir, target_dir):
@@ -56,47 +82,69 @@ def pack_screen(run_dir, target_dir):
             shutil.copyfileobj(source, packed)
 
 
-def keep(run_dir, store, more=()):
-    """Archives or keeps each run of run_dir into store; returns one line per run."""
-    store = Path(store)
-    cylinders = [silo3d_archive.ORIFICE_REGION, *more]
+def drop_carried(carried):
+    """Removes a finished run's carried checkpoint, and the campaign's carry
+    directory once it holds nothing."""
+    shutil.rmtree(carried, ignore_errors=True)
+    for directory in (carried.parent, carried.parent.parent):
+        if directory.is_dir() and not any(directory.iterdir()):
+            directory.rmdir()
+
+
+def keep(run_dir, store, more=(), analysis=None, carry=None):
+    """Archives or carries each run of run_dir (store: the finished runs'
+    archives; carry: the unfinished ones', carry_dir(store) by default;
+    analysis: an analysis.silo3d_rotating --out directory, run_dir/analysis
+    by default); returns one line per run."""
+    run_dir, store = Path(run_dir), Path(store)
+    carry = Path(carry) if carry is not None else carry_dir(store)
+    analysis = Path(analysis) if analysis is not None else run_dir / "analysis"
+    cylinders = [ORIFICE_REGION, *more]
     lines = []
     for run in run_dirs(run_dir):
-        archived, kept = store / run.name, store / KEPT / run.name
+        archived, carried = store / run.name, carry / run.name
         if (run / MARK).exists():
             continue                               # restored from an archive
-        if "finished" in read_run_info(run):
+        info = read_run_info(run)
+        if "finished" in info:
             if archived.exists():
                 lines.append(f"{run.name}: archived before")
+                drop_carried(carried)
                 continue
+            analysed = (analysis if (analysis / "runs" / silo3d_archive.run_label(info)).is_dir()
+                        else None)
             partial = archived.with_name(archived.name + ".part")
             shutil.rmtree(partial, ignore_errors=True)
-            frames, warning = silo3d_archive.archive(run, partial, more)
+            names = silo3d_archive.archive(run, partial, analysed)
             pack_screen(run, partial)
             partial.rename(archived)
-            shutil.rmtree(kept, ignore_errors=True)
-            lines.append(f"{run.name}: finished, archived ({frames} dump frames)"
-                         + (f"; WARNING: {warning}" if warning else ""))
+            drop_carried(carried)
+            lines.append(f"{run.name}: finished, archived (" + ", ".join(names) + ")"
+                         + ("" if analysed else f"; no analysis of it in {analysis}: no orifice table, no fields"))
             continue
         if checkpoint.last_checkpoint(run) is None:
-            lines.append(f"{run.name}: no checkpoint yet, nothing kept")
+            lines.append(f"{run.name}: no checkpoint yet, nothing carried")
             continue
-        partial = kept.with_name(kept.name + ".part")
+        partial = carried.with_name(carried.name + ".part")
         shutil.rmtree(partial, ignore_errors=True)
+        partial.parent.mkdir(parents=True, exist_ok=True)
         step = checkpoint.keep(run, partial, cylinders)
         pack_screen(run, partial)
-        shutil.rmtree(kept, ignore_errors=True)
-        partial.rename(kept)
+        shutil.rmtree(carried, ignore_errors=True)
+        partial.rename(carried)
         info = read_run_info(run, required=("dt", "t_open", "step_open"))
         t = (step - info["step_open"]) * info["dt"]
-        lines.append(f"{run.name}: unfinished, kept at its checkpoint of step {step} ({t:.2f} s of discharge)")
+        lines.append(f"{run.name}: unfinished, kept at its checkpoint of step {step} ({t:.2f} s of discharge) "
+                     f"in {carry}")
     return lines
 
 
-def restore(store, run_dir, also=()):
-    """Puts the archives and kept runs of store (and the `also` archives)
-    into run_dir; returns one line per run."""
+def restore(store, run_dir, also=(), carry=None):
+    """Puts the archives of store (and the `also` archives) and the runs
+    carried in carry (carry_dir(store) by default) into run_dir; returns
+    one line per run."""
     store, run_dir = Path(store), Path(run_dir)
+    carry = Path(carry) if carry is not None else carry_dir(store)
     lines = []
     archives = run_dirs(store) + [Path(a) for a in also]
     names = [a.name for a in archives]
@@ -116,16 +164,16 @@ def restore(store, run_dir, also=()):
         (target / MARK).write_text(f"{archive.resolve()}\n")
         (target / "finished").touch()
         lines.append(f"{archive.name}: finished, from {archive}")
-    for kept in run_dirs(store / KEPT):
-        target = run_dir / kept.name
-        if kept.name in names:
-            lines.append(f"{kept.name}: kept checkpoint ignored, the run is archived")
+    for carried in run_dirs(carry):
+        target = run_dir / carried.name
+        if carried.name in names:
+            lines.append(f"{carried.name}: carried checkpoint ignored, the run is archived")
         elif target.exists():
-            lines.append(f"{kept.name}: in {run_dir} already, left as it is")
+            lines.append(f"{carried.name}: in {run_dir} already, left as it is")
         else:
-            checkpoint.restore(kept, target)
+            checkpoint.restore(carried, target)
             step, _ = checkpoint.last_checkpoint(target)
-            lines.append(f"{kept.name}: unfinished, restored at its checkpoint of step {step}")
+            lines.append(f"{carried.name}: unfinished, restored at its checkpoint of step {step}")
     return lines
 
 
@@ -133,16 +181,23 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_carry", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     actions = parser.add_subparsers(dest="action", required=True)
-    keeping = actions.add_parser("keep", help="archive the finished runs, keep the unfinished ones' checkpoints")
+    carry_help = ("where the unfinished runs are carried [carry/<STORE's name> at the top of the git "
+                  "work tree that holds STORE]")
+    keeping = actions.add_parser("keep", help="archive the finished runs, carry the unfinished ones' checkpoints")
     keeping.add_argument("run_dir", type=Path)
     keeping.add_argument("store", type=Path)
     keeping.add_argument("--dump-cylinder", nargs=2, type=float, action="append", default=[],
-                         metavar=("R", "Z"), help="also keep the dumps' grains with r < R and z < Z (m)")
-    restoring = actions.add_parser("restore", help="put the store's runs into a run directory")
+                         metavar=("R", "Z"), help="an unfinished run's dump also keeps its grains with "
+                                                  "r < R and z < Z (m)")
+    keeping.add_argument("--analysis", type=Path, metavar="OUT",
+                         help="the analysis.silo3d_rotating --out directory of the runs [RUN_DIR/analysis]")
+    keeping.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
+    restoring = actions.add_parser("restore", help="put the store's and the carried runs into a run directory")
     restoring.add_argument("store", type=Path)
     restoring.add_argument("run_dir", type=Path)
     restoring.add_argument("--also", nargs="+", type=Path, default=[], metavar="ARCHIVE",
                            help="more finished runs' archives (analysis.silo3d_archive)")
+    restoring.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     try:
         if args.action == "keep":
@@ -151,9 +206,10 @@ def main(argv=None):
             for radius, top in args.dump_cylinder:
                 if not radius > 0:
                     raise ValueError(f"--dump-cylinder {radius:g} {top:g}: the radius must be > 0 m")
-            lines = keep(args.run_dir, args.store, [tuple(c) for c in args.dump_cylinder])
+            lines = keep(args.run_dir, args.store, [tuple(c) for c in args.dump_cylinder],
+                         args.analysis, args.carry)
         else:
-            lines = restore(args.store, args.run_dir, args.also)
+            lines = restore(args.store, args.run_dir, args.also, args.carry)
     except (ValueError, FileNotFoundError) as error:
         print(f"silo3d_carry: ERROR: {error}", file=sys.stderr)
         return 2

@@ -1,13 +1,19 @@
 """analysis.silo3d_carry: a campaign carried from one machine to the next
-through a store directory. On hand-made run directories: the finished run
-comes back finished with its orifice region and cost, the unfinished one
-resumes from the same checkpoint as before, and a run that finishes after
-being carried is archived in place of its kept checkpoint."""
+through a store directory (finished runs, reduced) and a carry directory
+(unfinished runs' checkpoints). On hand-made run directories: the finished
+run is stored as its records, orifice table, fields and cost, without a
+dump or checkpoint, and comes back finished; the unfinished one is carried
+outside the store and resumes from the same checkpoint as before; a run
+that finishes after being carried is archived and its carried checkpoint
+removed."""
 
 import lzma
 
+import numpy as np
+
 from analysis import checkpoint, silo3d_carry
 from analysis import silo3d_campaign
+from analysis import silo3d_rotating as silo
 from analysis.lammps_io import read_dump
 from test_silo3d_rotating_analysis import DT, T_OPEN, write_run
 
@@ -45,22 +51,47 @@ def assert_orifice_region_and_axis_column(whole, carried, before=None):
         assert list(part["id"]) == list(frame["id"][orifice | column])
 
 
+def assert_no_dump_or_checkpoint(directory):
+    names = [path.name for path in directory.rglob("*")]
+    assert not [n for n in names if n.startswith(("dump", "checkpoint")) or ".restart" in n], names
+
+
 def test_a_carried_campaign_skips_its_finished_run_and_resumes_the_other_where_it_was(tmp_path):
     finished, stopped, checkpoint_step = make_campaign(tmp_path / "machine1")
+    (finished / "reinject.txt").write_text("# step t n_out mass_out avalanche\n100 0.1 1 0.001 1\n")
+    analysis = tmp_path / "machine1" / "analysis"       # rods_fig2c.sh's analysis of the campaign
+    assert silo.main([str(finished), "--out", str(analysis), "--map-frames", "2"]) == 0
+    [analysed] = (analysis / "runs").iterdir()
     store = tmp_path / "store"
     assert silo3d_carry.main(["keep", str(tmp_path / "machine1"), str(store),
                               "--dump-cylinder", "0.025", "0.2"]) == 0
-    assert (store / finished.name / "dump.cg.xz").exists() and (store / finished.name / "screen.txt.xz").exists()
-    assert (store / "kept" / stopped.name / f"checkpoint.{checkpoint_step}.restart.xz").exists()
-    assert not (store / stopped.name).exists() and not (store / "kept" / finished.name).exists()
+    # the finished run: its records, orifice table, fields (float32) and cost; no dump
+    archived = store / finished.name
+    assert sorted(p.name for p in archived.iterdir()) == [
+        "discharge.txt", "fields.npz", "orifice_timeseries.md", "reinject.txt.xz", "run.txt", "screen.txt.xz"]
+    assert (archived / "orifice_timeseries.md").read_text() == (analysed / "orifice_timeseries.md").read_text()
+    assert lzma.open(archived / "reinject.txt.xz", "rt").read() == (finished / "reinject.txt").read_text()
+    with np.load(analysed / "fields.npz") as whole, np.load(archived / "fields.npz") as kept:
+        assert sorted(whole.files) == sorted(kept.files)
+        for key in whole.files:
+            np.testing.assert_allclose(kept[key], whole[key], rtol=1e-6, atol=1e-30)
+        assert kept["packing_fraction_0"].dtype == np.float32 and kept["r"].dtype == whole["r"].dtype
+    assert_no_dump_or_checkpoint(store)
+    # the unfinished run: carried outside the store, beside it here (no git work tree)
+    carried = tmp_path / "carry" / "store" / stopped.name
+    assert silo3d_carry.carry_dir(store) == tmp_path / "carry" / "store"
+    assert (carried / f"checkpoint.{checkpoint_step}.restart.xz").exists()
+    assert not (store / stopped.name).exists() and not (store / "kept").exists()
+    assert not (tmp_path / "carry" / "store" / finished.name).exists()
 
     again = tmp_path / "machine2"
     assert silo3d_carry.main(["restore", str(store), str(again)]) == 0
     # the finished run: run.sh's mark, where it came from, the records as they were
     assert (again / finished.name / "finished").exists()
-    assert (again / finished.name / "archived_in").read_text().strip() == str((store / finished.name).resolve())
+    assert (again / finished.name / "archived_in").read_text().strip() == str(archived.resolve())
     assert (again / finished.name / "discharge.txt").read_text() == (finished / "discharge.txt").read_text()
-    assert_orifice_region_and_axis_column(finished / "dump.cg", again / finished.name / "dump.cg")
+    assert (again / finished.name / "reinject.txt").read_text() == (finished / "reinject.txt").read_text()
+    assert not (again / finished.name / "dump.cg").exists()
     # the unfinished run resumes from the same step and time, with its own copy of the checkpoint
     expected, got = checkpoint.resume_variables(stopped), checkpoint.resume_variables(again / stopped.name)
     assert got.pop("checkpoint") == str((again / stopped.name / f"checkpoint.{checkpoint_step}.restart").resolve())
@@ -73,21 +104,31 @@ def test_a_carried_campaign_skips_its_finished_run_and_resumes_the_other_where_i
         assert silo3d_campaign.run_status(again / run.name)["cpu_hours"] == 0.1
 
     # keeping the second machine's campaign: the restored archive is left
-    # alone, the unfinished run kept again; once it has finished, it is
-    # archived and its kept checkpoint dropped
-    mtime = (store / finished.name / "dump.cg.xz").stat().st_mtime_ns
+    # alone, the unfinished run carried again; once it has finished, it is
+    # archived (without an analysis of it: records only) and the carry
+    # directory, then empty, removed
+    mtime = (archived / "discharge.txt").stat().st_mtime_ns
     assert silo3d_carry.keep(again, store) == [
-        f"{stopped.name}: unfinished, kept at its checkpoint of step {checkpoint_step} (2.00 s of discharge)"]
-    assert (store / finished.name / "dump.cg.xz").stat().st_mtime_ns == mtime
+        f"{stopped.name}: unfinished, kept at its checkpoint of step {checkpoint_step} (2.00 s of discharge) "
+        f"in {tmp_path / 'carry' / 'store'}"]
+    assert (archived / "discharge.txt").stat().st_mtime_ns == mtime
     with open(again / stopped.name / "run.txt", "a") as run_txt:
         run_txt.write("finished 8.5\n")
     [line] = silo3d_carry.keep(again, store)
-    assert line.startswith(f"{stopped.name}: finished, archived")
-    assert not (store / "kept" / stopped.name).exists()
+    assert line.startswith(f"{stopped.name}: finished, archived") and "no orifice table" in line
+    assert not (tmp_path / "carry").exists()
+    assert sorted(p.name for p in (store / stopped.name).iterdir()) == ["discharge.txt", "run.txt", "screen.txt.xz"]
     assert lzma.open(store / stopped.name / "screen.txt.xz", "rt").read() == "setting up\n" + SCREEN
+    assert_no_dump_or_checkpoint(store)
 
 
-def test_a_kept_run_that_is_archived_too_is_not_restored_and_bad_stores_are_refused(tmp_path, capsys):
+def test_the_carry_directory_is_at_the_top_of_the_store_s_work_tree(tmp_path):
+    (tmp_path / "repo" / ".git").mkdir(parents=True)
+    store = tmp_path / "repo" / "doc" / "data" / "campaign"
+    assert silo3d_carry.carry_dir(store) == tmp_path / "repo" / "carry" / "campaign"
+
+
+def test_a_carried_run_that_is_archived_too_is_not_restored_and_bad_stores_are_refused(tmp_path, capsys):
     finished, stopped, _ = make_campaign(tmp_path / "machine1")
     store = tmp_path / "store"
     silo3d_carry.keep(tmp_path / "machine1", store)
@@ -97,11 +138,11 @@ def test_a_kept_run_that_is_archived_too_is_not_restored_and_bad_stores_are_refu
     assert silo3d_carry.main(["restore", str(store), str(tmp_path / "b"), "--also", str(stopped)]) == 2
     assert "not a finished run's archive" in capsys.readouterr().err
     assert not list((tmp_path / "a").glob("D*")) and not list((tmp_path / "b").glob("D*"))
-    # the same run archived elsewhere (--also) wins over its kept checkpoint
+    # the same run archived elsewhere (--also) wins over its carried checkpoint
     elsewhere = tmp_path / "elsewhere" / stopped.name
     write_run(elsewhere, 0.0, 0.03, 11, 20.0, duration=3.0)
     lines = silo3d_carry.restore(store, tmp_path / "c", [elsewhere])
-    assert f"{stopped.name}: kept checkpoint ignored, the run is archived" in lines
+    assert f"{stopped.name}: carried checkpoint ignored, the run is archived" in lines
     assert (tmp_path / "c" / stopped.name / "finished").exists()
     assert not (tmp_path / "c" / stopped.name / "checkpoints.txt").exists()
     # a run directory already there is left as it is

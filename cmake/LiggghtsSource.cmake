@@ -10,7 +10,13 @@
 set(LIGGGHTS_DEBIAN_TARBALL_NAME "liggghts_3.8.0+repack1.orig.tar.xz")
 set(LIGGGHTS_DEBIAN_TARBALL_SHA256
     "c18721d9a870c5170f03b91e4f1ffe13335c66ed1f0ff2c64ebd3be91c37867a")
-set(LIGGGHTS_PATCH "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-gcc12.patch")
+# Our patches to LIGGGHTS' own sources, applied in this order (doc/liggghts_quirks.md):
+#   gcc12           upstream 3.8.0 does not compile with GCC 12 as is
+#   error-one-flush Error::one writes its message to the log too and flushes
+#                   before MPI_Abort, so that an ERROR reaches a file or pipe
+set(LIGGGHTS_PATCHES
+    "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-gcc12.patch"
+    "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-error-one-flush.patch")
 
 set(LIGGGHTS_WORK_DIR "${CMAKE_BINARY_DIR}/liggghts")
 set(LIGGGHTS_BUILD_SRC "${LIGGGHTS_WORK_DIR}/src")
@@ -42,8 +48,14 @@ function(silokit_fetch_debian_tarball out_path)
   set(${out_path} "${tarball}" PARENT_SCOPE)
 endfunction()
 
-# The copy is redone only when its origin or our patch changes.
-file(SHA256 "${LIGGGHTS_PATCH}" patch_sum)
+# The copy is redone only when its origin or one of our patches changes
+# (an edited patch re-runs this configure step at the next build).
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${LIGGGHTS_PATCHES})
+set(patch_sum "")
+foreach(patch IN LISTS LIGGGHTS_PATCHES)
+  file(SHA256 "${patch}" sum)
+  string(APPEND patch_sum " ${sum}")
+endforeach()
 if(LIGGGHTS_SOURCE_DIR)
   get_filename_component(origin "${LIGGGHTS_SOURCE_DIR}" ABSOLUTE)
   if(NOT EXISTS "${origin}/src/lammps.cpp")
@@ -82,12 +94,14 @@ if(NOT old_stamp_text STREQUAL stamp_text)
     file(RENAME "${unpacked_src}" "${LIGGGHTS_BUILD_SRC}")
     file(REMOVE_RECURSE "${unpack_dir}")
   endif()
-  message(STATUS "silokit: applying ${LIGGGHTS_PATCH}")
-  execute_process(COMMAND patch -p1 --forward --batch -i "${LIGGGHTS_PATCH}"
-                  WORKING_DIRECTORY "${LIGGGHTS_WORK_DIR}"
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "silokit: the GCC 12 patch does not apply to this tree:\n${out}${err}")
-  endif()
+  foreach(patch IN LISTS LIGGGHTS_PATCHES)
+    message(STATUS "silokit: applying ${patch}")
+    execute_process(COMMAND patch -p1 --forward --batch -i "${patch}"
+                    WORKING_DIRECTORY "${LIGGGHTS_WORK_DIR}"
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "silokit: ${patch} does not apply to this tree:\n${out}${err}")
+    endif()
+  endforeach()
   file(WRITE "${stamp}" "${stamp_text}")
 endif()

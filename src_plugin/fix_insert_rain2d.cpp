@@ -24,7 +24,6 @@
 #include "domain.h"
 #include "error.h"
 #include "group.h"
-#include "math_extra_liggghts.h"
 #include "modify.h"
 #include "random_park.h"
 #include "rain_row.h"
@@ -107,10 +106,11 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
     const char *value = arg[iarg+1];
     if (keyword == "seed") {
       const int seed = silokit::keyword_integer(this, error, value, "seed");
-      if (seed <= 10000 || !MathExtraLiggghts::isPrime(seed))
+      if (!silokit::liggghts_seed_accepted(seed))
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 (LIGGGHTS' random generator requires it)");
       delete random;
-      random = new RanPark(lmp, value);
+      // RanPark reads its text with atoi: give it the integer's digits
+      random = new RanPark(lmp, std::to_string(seed).c_str());
     } else if (keyword == "type") {
       grain_type = silokit::keyword_integer(this, error, value, "type");
       have_type = true;

@@ -19,6 +19,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "input.h"
 #include "random_park.h"
 #include "region.h"
 #include "silokit_args.h"
@@ -109,6 +110,9 @@ void FixReinject::parse_arguments(int narg, char **arg)
     } else if (keyword == "seed") {
       const int seed = silokit::keyword_integer(this, error, value, "seed");
       if (seed <= 0) error->fix_error(FLERR, this, "'seed' must be a positive integer");
+      if (!silokit::liggghts_seed_accepted(seed) && input->seed_check_throw_error())
+        error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 "
+                                      "(LIGGGHTS' random generator requires it)");
       delete random;
       // RanPark reads its text with atoi: give it the integer's digits
       random = new RanPark(lmp, std::to_string(seed).c_str());

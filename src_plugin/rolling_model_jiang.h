@@ -252,24 +252,12 @@ namespace ContactModels
                 << " for types " << sidata.itype << " " << sidata.jtype
                 << " is larger than the diameter " << smallest_diameter
                 << " of a grain in contact";
-        abortOnThisRank(message.str());
+        // only the rank that meets this contact knows of it: error->one,
+        // which our patch of LIGGGHTS makes flush the screen and the log
+        // before it aborts (doc/liggghts_quirks.md)
+        error->one(FLERR, message.str().c_str());
       }
       return contact_length;
-    }
-
-    // Only the rank that meets a bad contact knows of it, so this is an
-    // error->one. That prints to the screen without flushing and then calls
-    // MPI_Abort, which loses the message of a run whose output goes to a
-    // pipe or file: write and flush it to the log and to stderr first.
-    void abortOnThisRank(const std::string & message) const
-    {
-      fprintf(stderr, "ERROR on proc %d: %s\n", comm->me, message.c_str());
-      fflush(stderr);
-      if (logfile) {
-        fprintf(logfile, "ERROR on proc %d: %s\n", comm->me, message.c_str());
-        fflush(logfile);
-      }
-      error->one(FLERR, message.c_str());
     }
 
     // Reduced moment of inertia for rolling about the contact point: disc

@@ -17,8 +17,10 @@
 #include "domain.h"
 #include "error.h"
 #include "group.h"
+#include "input.h"
 #include "math_const.h"
 #include "random_park.h"
+#include "silokit_args.h"
 
 using namespace LAMMPS_NS;
 
@@ -65,6 +67,9 @@ void SetSpherocylinder::command(int narg, char **arg)
           error->all(FLERR, "set_spherocylinder: the seed of 'axis random' must be an integer in "
                             "[1, 900000000] (LIGGGHTS wants a prime > 10000)");
         seed = static_cast<int>(value);
+        if (!silokit::liggghts_seed_accepted(seed) && input->seed_check_throw_error())
+          error->all(FLERR, "set_spherocylinder: the seed of 'axis random' must be a prime "
+                            "number > 10000 (LIGGGHTS' random generator requires it)");
         seed_text = arg[iarg + 2];
         axis_random = true;
         iarg += 3;
@@ -87,7 +92,7 @@ void SetSpherocylinder::command(int narg, char **arg)
     }
   }
 
-  // LIGGGHTS' own check of the seed (a prime > 10000) comes with it
+  // LIGGGHTS checks the seed again (on rank 0: a warning with -seedtolerant)
   RanPark random(lmp, axis_random ? seed_text : "32452843");
   int bad_length = 0;
   for (int i = 0; i < atom->nlocal; ++i) {

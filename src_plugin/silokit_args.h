@@ -10,6 +10,7 @@
 
 #include "error.h"
 #include "fix.h"
+#include "math_extra_liggghts.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -42,6 +43,16 @@ inline int keyword_integer(LAMMPS_NS::Fix *fix, LAMMPS_NS::Error *error,
     error->fix_error(FLERR, fix, message.c_str());
   }
   return static_cast<int>(value);
+}
+
+// Whether LIGGGHTS' random generators (RanPark) take `seed`: they want a
+// prime > 10000 and check it on rank 0 alone, with an error->one (a
+// warning when liggghts runs with -seedtolerant). Our styles check the
+// same rule first, on every rank (unless -seedtolerant), so that the
+// error is a collective one that names the keyword.
+inline bool liggghts_seed_accepted(int seed)
+{
+  return seed > 10000 && MathExtraLiggghts::isPrime(seed);
 }
 
 }  // namespace silokit

@@ -24,25 +24,38 @@ class LiggghtsError(RuntimeError):
         self.output = output
 
 
-def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600):
+def run_liggghts(deck, workdir, nprocs=1, variables=None, timeout=600, batch=False,
+                 log_file="log.liggghts"):
     """Writes `deck` to workdir/in.deck, runs it (under mpirun when
     nprocs > 1) and returns the screen output. Raises LiggghtsError carrying
-    the ERROR line when LIGGGHTS fails; a hang ends in TimeoutExpired."""
+    the ERROR line when LIGGGHTS fails; a hang ends in TimeoutExpired.
+    batch=True runs it as a cluster job does: no stdbuf, stdout and stderr
+    into the files out.txt and err.txt of workdir (the output returned is
+    theirs). log_file=None leaves out -log (LIGGGHTS' default log file)."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
-    # stdbuf: LIGGGHTS' Error::one prints its message without a flush
-    # before MPI_Abort (doc/liggghts_quirks.md); line buffering keeps it
-    command = ["stdbuf", "-oL", str(LIGGGHTS), "-in", "in.deck", "-echo", "screen", "-log", "log.liggghts"]
+    command = [str(LIGGGHTS), "-in", "in.deck", "-echo", "screen"]
+    if log_file:
+        command += ["-log", log_file]
+    if not batch:
+        # line buffering: the output of a run that hangs or is killed
+        command = ["stdbuf", "-oL"] + command
     for name, value in (variables or {}).items():
         command += ["-var", name, str(value)]
     if nprocs > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(nprocs)] + command
-    # errors="replace": on some errors stock LIGGGHTS (error_special.h)
-    # prints a line of garbage bytes after the message
-    result = subprocess.run(command, cwd=workdir, capture_output=True, text=True,
-                            errors="replace", timeout=timeout)
-    output = result.stdout + result.stderr
+    if batch:
+        with open(workdir / "out.txt", "w") as out, open(workdir / "err.txt", "w") as err:
+            result = subprocess.run(command, cwd=workdir, stdout=out, stderr=err, timeout=timeout)
+        output = ((workdir / "out.txt").read_text(errors="replace")
+                  + (workdir / "err.txt").read_text(errors="replace"))
+    else:
+        # errors="replace": on some errors stock LIGGGHTS (error_special.h)
+        # prints a line of garbage bytes after the message
+        result = subprocess.run(command, cwd=workdir, capture_output=True, text=True,
+                                errors="replace", timeout=timeout)
+        output = result.stdout + result.stderr
     # lines that start with ERROR: Open MPI's own ORTE_ERROR_LOG lines do not
     errors = [line for line in output.splitlines() if line.startswith("ERROR")]
     if result.returncode != 0 or errors:

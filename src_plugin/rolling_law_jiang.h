@@ -16,6 +16,7 @@
 #ifndef SILOKIT_ROLLING_LAW_JIANG_H
 #define SILOKIT_ROLLING_LAW_JIANG_H
 
+#include <algorithm>
 #include <cmath>
 
 namespace silokit {
@@ -39,6 +40,29 @@ inline double wall_overlap_contact_length(double radius, double overlap)
 {
   const double a_squared = overlap*(2.0*radius - overlap);
   return a_squared > 0.0 ? 2.0*std::sqrt(a_squared) : 0.0;
+}
+
+// Jiang's stiffness and cap at one contact, from the contact length l_c:
+//   k_r   = a k_n l_c^2                 (a: stiffness_factor)
+//   mu_r  = b mu l_c                    (b: friction_factor)
+//   limit = mu_r max(f_el, 0), f_el = k_n delta_n (an opening contact holds
+//           no torque)
+// k_n is the normal model's (secant) stiffness, delta_n the overlap.
+struct RollingSpring {
+  double stiffness;       // k_r
+  double torque_limit;    // mu_r f_el
+};
+
+inline RollingSpring rolling_spring(double normal_stiffness, double overlap, double friction,
+                                    double contact_length, double stiffness_factor,
+                                    double friction_factor)
+{
+  const double elastic_normal_force = normal_stiffness*overlap;
+  RollingSpring spring;
+  spring.stiffness = stiffness_factor*normal_stiffness*contact_length*contact_length;
+  spring.torque_limit = friction_factor*friction*contact_length*
+                        std::max(elastic_normal_force, 0.0);
+  return spring;
 }
 
 // Removes from v its component along the unit normal, then restores the

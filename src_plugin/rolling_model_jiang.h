@@ -149,11 +149,10 @@ namespace ContactModels
                                            : sidata.omega_i[k];
       silokit::jiang::remove_normal_component(relative_omega, normal);
 
-      const double contact_length = contactLength(sidata);
-      const double elastic_normal_force = sidata.kn*sidata.deltan;
-      const double stiffness = stiffness_factor*sidata.kn*contact_length*contact_length;
-      const double torque_limit = friction_factor*coefficient_friction[itype][jtype]*
-                                  contact_length*std::max(elastic_normal_force, 0.0);
+      const silokit::jiang::RollingSpring spring = silokit::jiang::rolling_spring(
+          sidata.kn, sidata.deltan, coefficient_friction[itype][jtype], contactLength(sidata),
+          stiffness_factor, friction_factor);
+      const double stiffness = spring.stiffness;
 
       // The force call that sets up a run (after `run` or `read_restart`)
       // must not advance the spring: it returns the torque of the stored
@@ -172,7 +171,8 @@ namespace ContactModels
       }
 
       double torque[3];
-      const bool rolls = silokit::jiang::spring_torque(rolling_angle, stiffness, torque_limit, torque);
+      const bool rolls = silokit::jiang::spring_torque(rolling_angle, stiffness, spring.torque_limit,
+                                                       torque);
 
       if (update_history) {
         for (int k = 0; k < 3; ++k) history[k] = rolling_angle[k];

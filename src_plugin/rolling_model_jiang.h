@@ -76,7 +76,8 @@ namespace ContactModels
         RollingModelBase(lmp, hsetup, c),
         coefficient_friction(NULL), fixed_contact_length(NULL), rolling_damping_ratio(NULL),
         stiffness_factor(1.0), friction_factor(1.0),
-        contact_length_from_overlap(false), contact_length_from_depth(false), rolling_damping(false)
+        contact_length_from_overlap(false), contact_length_from_depth(false), rolling_damping(false),
+        fixed_pairs_reported(false)
     {
       // accumulated relative rolling angle, a vector in the tangent plane;
       // newton flag "1": it changes sign when i and j swap
@@ -123,6 +124,7 @@ namespace ContactModels
                                                   false)) {
         registry.registerProperty("rollingContactLength", &MODEL_PARAMS::createRollingContactLength);
         registry.connect("rollingContactLength", fixed_contact_length, "rolling_friction jiang");
+        if (geometric && !fixed_pairs_reported) reportFixedPairs(registry.max_type());
       }
       if (rolling_damping) {
         registry.registerProperty("coeffRollVisc", &MODEL_PARAMS::createCoeffRollVisc);
@@ -214,7 +216,30 @@ namespace ContactModels
     bool contact_length_from_overlap;   // l_c = the chord (2D) or diameter (3D) of the overlap
     bool contact_length_from_depth;     // l_c = the overlap depth delta_n
     bool rolling_damping;
+    bool fixed_pairs_reported;          // reportFixedPairs has run
     int history_offset;
+
+    // With l_c from the overlap, a type pair given rollingContactLength > 0
+    // keeps that fixed l_c. A deck written before that rule may hold a
+    // placeholder there: say which pairs keep a fixed l_c, once, on rank 0.
+    void reportFixedPairs(int max_type)
+    {
+      fixed_pairs_reported = true;
+      std::ostringstream pairs;
+      int count = 0;
+      for (int i = 1; i <= max_type; i++)
+        for (int j = i; j <= max_type; j++)
+          if (fixed_contact_length[i][j] > 0.0)
+            pairs << (count++ ? ", " : "") << i << "-" << j << " (" << fixed_contact_length[i][j] << ")";
+      if (count == 0 || comm->me != 0) return;
+      std::ostringstream message;
+      message << "rolling_friction jiang: " << (contact_length_from_depth ? "contactLengthFromDepth"
+                                                                           : "contactLengthFromOverlap")
+              << " is on, but type pair" << (count > 1 ? "s " : " ") << pairs.str()
+              << " keep" << (count > 1 ? "" : "s") << " the fixed l_c of rollingContactLength "
+              << "(give 0 for l_c from the contact)";
+      error->warning(FLERR, message.str().c_str());
+    }
 
     // True when the stored rolling angle belongs to this contact: it was
     // advanced in the previous step (the current one, for a call that does

@@ -23,9 +23,18 @@
 
 using namespace LAMMPS_NS;
 
-FixWallGranRodContacts::FixWallGranRodContacts(LAMMPS *lmp, int narg, char **arg, int slots) :
-  FixWallGran(lmp, narg, arg), slots_(slots), rod_history_(NULL)
+FixWallGranRodContacts::FixWallGranRodContacts(LAMMPS *lmp, int narg, char **arg, int max_contacts) :
+  FixWallGran(lmp, narg, arg), slots_(max_contacts), rod_history_(NULL)
 {
+  // one slot per contact the wall's geometry can give a rod: then every
+  // contact of a step finds a slot (take_slot), and the per-step arrays of
+  // apply_rod_contacts, sized for the most any wall gives, hold them all
+  if (slots_ < 1 || slots_ > silokit::max_wall_contacts) {
+    const std::string message = std::string("Fix ") + style + " (id " + id + "): a wall keeps one "
+      "history slot per contact a rod can have with it, 1 to silokit::max_wall_contacts (" +
+      std::to_string(silokit::max_wall_contacts) + "), not " + std::to_string(slots_);
+    error->all(FLERR, message.c_str());
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -84,37 +93,34 @@ void FixWallGranRodContacts::wall_velocity(const double *, double *velocity) con
 /* ----------------------------------------------------------------------
    The slot for a contact at t: the slot in use whose t is nearest, within
    the rod's radius, and not taken by another contact this step; else the
-   first free one; -1 if none is left.
+   first free one; else the first one not taken, afresh (its contact of
+   the last step is not near any of this step's). The caller hands in
+   fewer taken slots than there are (apply_rod_contacts), so a slot not
+   taken exists and the index returned is always a valid one.
 ------------------------------------------------------------------------- */
 
 int FixWallGranRodContacts::take_slot(double *slots, double t, double radius, const bool *taken) const
 {
-  int best = -1;
-  double best_distance = radius;
+  int nearest = -1, first_free = -1, first_untaken = -1;
+  double nearest_distance = radius;
   for (int s = 0; s < slots_; ++s) {
+    if (taken[s]) continue;
+    if (first_untaken < 0) first_untaken = s;
     const double *slot = slots + s*slot_size();
-    if (taken[s] || slot[0] == 0.0) continue;
+    if (slot[0] == 0.0) {
+      if (first_free < 0) first_free = s;
+      continue;
+    }
     const double distance = std::fabs(slot[1] - t);
-    if (distance <= best_distance) {
-      best = s;
-      best_distance = distance;
+    if (distance <= nearest_distance) {
+      nearest = s;
+      nearest_distance = distance;
     }
   }
-  if (best >= 0) return best;
-  for (int s = 0; s < slots_; ++s) {
-    double *slot = slots + s*slot_size();
-    if (taken[s] || slot[0] != 0.0) continue;
-    std::memset(slot, 0, slot_size()*sizeof(double));
-    return s;
-  }
-  // every slot holds a contact of the last step that none of this step's
-  // contacts is near: take the first of them afresh
-  for (int s = 0; s < slots_; ++s)
-    if (!taken[s]) {
-      std::memset(slots + s*slot_size(), 0, slot_size()*sizeof(double));
-      return s;
-    }
-  return -1;
+  if (nearest >= 0) return nearest;
+  const int fresh = first_free >= 0 ? first_free : first_untaken;
+  std::memset(slots + fresh*slot_size(), 0, slot_size()*sizeof(double));
+  return fresh;
 }
 
 /* ----------------------------------------------------------------------
@@ -129,7 +135,15 @@ void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContac
   double *slots = rod_history_->array_atom[i];
   const double radius = atom->shape[i][1];   // d/2, as rod_of gives it
 
-  // a subclass keeps at least as many slots as its geometry gives contacts
+  // Contact c finds c slots taken: with no more contacts than slots, one
+  // is left for it. The geometry gives at most as many as the subclass
+  // declared (rules 6-8 of spherocylinder_geometry.h); this guards that.
+  if (contacts.count > slots_) {
+    const std::string message = std::string("Fix ") + style + " (id " + id + "): a rod has " +
+      std::to_string(contacts.count) + " contacts with the wall, more than its " +
+      std::to_string(slots_) + " history slots (a bug: please report it)";
+    error->one(FLERR, message.c_str());
+  }
   bool taken[silokit::max_wall_contacts];
   for (int s = 0; s < slots_; ++s) taken[s] = false;
   int slot_of[silokit::max_wall_contacts];

@@ -36,7 +36,10 @@ namespace LAMMPS_NS {
 
 class FixWallGranRodContacts : public FixWallGran {
  public:
-  FixWallGranRodContacts(class LAMMPS *, int, char **, int slots);
+  // max_contacts: the most contacts the wall's geometry gives one rod
+  // (spherocylinder_geometry.h rules 6-8), 1 to silokit::max_wall_contacts;
+  // the wall keeps that many history slots per rod
+  FixWallGranRodContacts(class LAMMPS *, int, char **, int max_contacts);
   void post_create();
   void pre_delete(bool unfixflag);
   void init();
@@ -57,6 +60,7 @@ class FixWallGranRodContacts : public FixWallGran {
   class FixPropertyAtom *rod_history_;
   // per slot: in use (0/1), t, then the contact model's dnum_ values
   int slot_size() const { return 2 + dnum_; }
+  // the slot for a contact at t; needs a slot not taken (see the .cpp)
   int take_slot(double *slots, double t, double radius, const bool *taken) const;
 };
 

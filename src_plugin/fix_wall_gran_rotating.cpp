@@ -11,9 +11,10 @@
    This class only replaces the primitive-wall force loop: each grain of
    that list is resolved against the plate with its hole
    (orifice_plate.h), and the wall velocity handed to the contact model is
-   that of the plate at the contact point. Our own keywords are moved
-   behind the stock ones before FixWallGran sees the arguments, since it
-   refuses keywords it does not know.
+   that of the plate at the contact point. FixWallGran refuses keywords it
+   does not know, so it gets a list of the stock arguments alone (the
+   deck's list is left as it is), and this class reads its own keywords
+   from the rest; both keep their order.
 ------------------------------------------------------------------------- */
 
 #include "fix_wall_gran_rotating.h"
@@ -61,15 +62,21 @@ const int PLATE_SLOTS = silokit::max_wall_contacts;
 /* ---------------------------------------------------------------------- */
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
-  FixWallGranRodContacts(lmp, move_own_keywords_last(lmp, narg, arg), arg, PLATE_SLOTS),
+  FixWallGranRotating(lmp, split_arguments(lmp, narg, arg))
+{
+}
+
+FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, Arguments arguments) :
+  FixWallGranRodContacts(lmp, static_cast<int>(arguments.stock.size()), arguments.stock.data(),
+                         PLATE_SLOTS),
   hole_radius(0.0), omega(0.0), start_time(0.0), open_time(0.0), reduced_step(-1)
 {
   if (meshwall_ != 0 || !primitiveWall_)
     error->fix_error(FLERR, this, "needs a primitive plane: 'primitive type <T> xplane|yplane|zplane <coordinate>'");
   if (shear_)
     error->fix_error(FLERR, this, "'shear' is not for this style: give 'omega' or 'frequency'");
-  read_plane(narg_, arg);
-  parse_own_keywords(narg_, narg, arg);
+  read_plane(arguments.stock);
+  parse_own_keywords(arguments.own);
   check_geometry();
 
   vector_flag = 1;
@@ -91,17 +98,19 @@ FixWallGranRotating::~FixWallGranRotating()
 }
 
 /* ----------------------------------------------------------------------
-   Moves our keywords and their values behind all others, in place, and
-   returns how many arguments the stock FixWallGran is to read.
+   The command's arguments in two lists, each in the order given: the
+   stock FixWallGran's (id, group, style, then every argument that is not
+   one of our keywords or its values) and ours.
 ------------------------------------------------------------------------- */
 
-int FixWallGranRotating::move_own_keywords_last(LAMMPS *lmp, int narg, char **arg)
+FixWallGranRotating::Arguments FixWallGranRotating::split_arguments(LAMMPS *lmp, int narg, char **arg)
 {
-  std::vector<char *> stock(arg, arg + (narg < 3 ? narg : 3)), own;
+  Arguments arguments;
+  arguments.stock.assign(arg, arg + (narg < 3 ? narg : 3));
   for (int i = 3; i < narg;) {
     const int values = own_keyword_values(arg[i]);
     if (values < 0) {
-      stock.push_back(arg[i++]);
+      arguments.stock.push_back(arg[i++]);
       continue;
     }
     if (i + values >= narg) {
@@ -109,13 +118,10 @@ int FixWallGranRotating::move_own_keywords_last(LAMMPS *lmp, int narg, char **ar
         "): keyword '" + arg[i] + "' needs " + (values == 1 ? "a value" : "three values");
       lmp->error->all(FLERR, message.c_str());
     }
-    own.insert(own.end(), arg + i, arg + i + values + 1);
+    arguments.own.insert(arguments.own.end(), arg + i, arg + i + values + 1);
     i += values + 1;
   }
-  const int nstock = static_cast<int>(stock.size());
-  for (int k = 0; k < nstock; ++k) arg[k] = stock[k];
-  for (size_t k = 0; k < own.size(); ++k) arg[nstock + k] = own[k];
-  return nstock;
+  return arguments;
 }
 
 /* ----------------------------------------------------------------------
@@ -124,10 +130,11 @@ int FixWallGranRotating::move_own_keywords_last(LAMMPS *lmp, int narg, char **ar
    projection on the plane).
 ------------------------------------------------------------------------- */
 
-void FixWallGranRotating::read_plane(int nstock, char **arg)
+void FixWallGranRotating::read_plane(const std::vector<char *> &arg)
 {
   int normal = -1;
   double coordinate = 0.0;
+  const int nstock = static_cast<int>(arg.size());
   for (int i = 3; i + 4 < nstock; ++i) {
     if (strcmp(arg[i], "primitive") != 0) continue;
     const char *style = arg[i+3];
@@ -151,13 +158,14 @@ void FixWallGranRotating::read_plane(int nstock, char **arg)
 
 /* ---------------------------------------------------------------------- */
 
-void FixWallGranRotating::parse_own_keywords(int first, int narg, char **arg)
+void FixWallGranRotating::parse_own_keywords(const std::vector<char *> &arg)
 {
   bool have_omega = false, have_frequency = false;
   int normal = 0;
   for (int k = 1; k < 3; ++k)
     if (axis[k] != 0.0) normal = k;
-  for (int i = first; i < narg;) {
+  const int narg = static_cast<int>(arg.size());
+  for (int i = 0; i < narg;) {
     const std::string keyword(arg[i]);
     const char *value = arg[i+1];
     if (keyword == "orifice") {

@@ -24,6 +24,8 @@ FixStyle(wall/gran/rotating,FixWallGranRotating)
 #include "fix_wall_gran_rod_contacts.h"
 #include "silokit_clock.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 class FixWallGranRotating : public FixWallGranRodContacts {
@@ -67,9 +69,15 @@ class FixWallGranRotating : public FixWallGranRodContacts {
   double global_sums[3];
   bigint reduced_step;
 
-  static int move_own_keywords_last(class LAMMPS *, int narg, char **arg);
-  void parse_own_keywords(int first, int narg, char **arg);
-  void read_plane(int narg, char **arg);
+  // the command's arguments: FixWallGran's, and our keywords with their values
+  struct Arguments {
+    std::vector<char *> stock;
+    std::vector<char *> own;
+  };
+  static Arguments split_arguments(class LAMMPS *, int narg, char **arg);
+  FixWallGranRotating(class LAMMPS *, Arguments arguments);
+  void parse_own_keywords(const std::vector<char *> &arg);
+  void read_plane(const std::vector<char *> &arg);
   void check_geometry();
   // the contact of sphere i with the plate, through the contact model;
   // returns whether it touches

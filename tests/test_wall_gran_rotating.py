@@ -624,3 +624,36 @@ def test_good_input_runs(run, tmp_path):
     assert "ERROR" not in output
     # axis 0 0 -1: clockwise seen from above
     assert rec["vy"][-1] < 0.0
+
+
+# keywords of ours anywhere among the stock ones: between the model's words,
+# between the wall's and the model's settings, before everything (the stock
+# ones keep the order fix wall/gran asks for: store_force before the
+# model's settings)
+JIANG_WALL = "model hooke/stiffness tangential history rolling_friction jiang"
+SAME_WALL = [
+    f"{JIANG_WALL} primitive type 1 zplane 0.0 store_force no rollingStiffnessFactor 2 "
+    "orifice 0.04 center 0.01 0 0 axis 0 0 -1 frequency 1 start 0.002 open 0.001",
+    "orifice 0.04 model hooke/stiffness tangential history frequency 1 rolling_friction jiang "
+    "center 0.01 0 0.3 primitive type 1 zplane 0.0 open 0.001 store_force no axis 0 0 -1 "
+    "rollingStiffnessFactor 2 start 0.002",
+    f"start 0.002 axis 0 0 -1 {JIANG_WALL} primitive type 1 zplane 0.0 frequency 1 "
+    "store_force no center 0.01 0 0 rollingStiffnessFactor 2 open 0.001 orifice 0.04",
+]
+
+
+def test_our_keywords_in_any_position_give_the_same_wall(run, tmp_path):
+    """The plate's keywords are read apart from FixWallGran's, which gets
+    the others in their order: every arrangement gives the same run, bit
+    for bit (a grain rolling on the turning plate near the rim, with
+    rolling resistance, so that the model's settings count too)."""
+    materials = MATERIALS + per_pair("rollingContactLength", 5.0e-4)
+    records = []
+    for k, options in enumerate(SAME_WALL):
+        wall = f"fix bottom all wall/gran/rotating {options}"
+        run(deck(one_atom(0.035, 0.0, RADIUS), wall, 2000, record_every=10, materials=materials),
+            subdir=f"order{k}")
+        records.append((tmp_path / f"order{k}" / "record.txt").read_text())
+    assert records[0].count("\n") > 200
+    assert records[1] == records[0]
+    assert records[2] == records[0]

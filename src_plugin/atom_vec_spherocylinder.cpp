@@ -53,7 +53,7 @@ void quaternion_turning_x_onto(const double *axis, double *q)
 /* ---------------------------------------------------------------------- */
 
 AtomVecSpherocylinder::AtomVecSpherocylinder(LAMMPS *lmp) :
-  AtomVecSphere(lmp), quaternion(NULL), angmom(NULL), shape(NULL), inertia(NULL)
+  AtomVecSphere(lmp), quaternion(nullptr), angmom(nullptr), shape(nullptr), inertia(nullptr)
 {
   comm_x_only = 0;
   size_forward = SPHERE_COMM + ROD_COMM;
@@ -113,7 +113,7 @@ void AtomVecSpherocylinder::refuse_sphere_only_styles()
                            style + ") treats rods as spheres; use " + sphere_fixes[k][1]).c_str());
     }
   }
-  PairGran *pair = force->pair ? dynamic_cast<PairGran *>(force->pair) : NULL;
+  PairGran *pair = force->pair ? dynamic_cast<PairGran *>(force->pair) : nullptr;
   if (force->pair && !pair)
     error->all(FLERR, "atom_style spherocylinder: the pair style must be gran with surface spherocylinder");
   if (pair) {

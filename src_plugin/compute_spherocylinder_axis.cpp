@@ -16,7 +16,7 @@
 using namespace LAMMPS_NS;
 
 ComputeSpherocylinderAxis::ComputeSpherocylinderAxis(LAMMPS *lmp, int &iarg, int narg, char **arg) :
-  Compute(lmp, iarg, narg, arg), nmax(0), axes(NULL)
+  Compute(lmp, iarg, narg, arg), nmax(0), axes(nullptr)
 {
   if (narg != iarg) error->compute_error(FLERR, this, "takes no arguments");
   if (!dynamic_cast<AtomVecSpherocylinder *>(atom->avec))

@@ -56,13 +56,6 @@ const double restart_layout = -2.0;
 const int grain_fields = 6;     // tag, horizontal, off-plane, height, radius, kind
 const int contact_fields = 6;   // id1, id2, horizontal, height, |F_n|, |F_t|
 
-char *copy_text(const char *text)
-{
-  char *copy = new char[strlen(text) + 1];
-  strcpy(copy, text);
-  return copy;
-}
-
 double magnitude(const double *v) { return std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2]*v[2]); }
 
 }  // namespace
@@ -71,13 +64,12 @@ double magnitude(const double *v) { return std::sqrt(v[0]*v[0] + v[1]*v[1] + v[2
 
 FixClog::FixClog(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  reinject_id(NULL), reinject(NULL), base_group_id(NULL), base_groupbit(0),
+  reinject(nullptr), base_groupbit(0),
   orifice_centre(0.0), bottom(0.0), quiet_time(0.1), energy_ratio(1e-4), max_time(0.0),
-  break_arches(false), arches_wanted(1), directory("."), contacts_id(NULL),
-  own_contacts_compute(false), contacts(NULL), vertical(2), off_plane(1), gravity(0.0),
+  break_arches(false), arches_wanted(1), directory("."),
+  own_contacts_compute(false), contacts(nullptr), vertical(2), off_plane(1), gravity(0.0),
   attempts(0), arches_found(0), done(false), attempt_start(-1.0), last_exit_time(0.0),
-  last_grains_out(0.0), last_ratio(0.0), restored(false),
-  clogs_file(NULL), arches_file(NULL), feet_file(NULL), contacts_file(NULL)
+  last_grains_out(0.0), last_ratio(0.0), restored(false)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag)
     error->fix_error(FLERR, this, "needs per-atom radius, mass and omega (atom_style sphere or granular)");
@@ -108,11 +100,9 @@ void FixClog::parse_arguments(int narg, char **arg)
     }
     const char *value = arg[iarg+1];
     if (keyword == "reinject") {
-      delete [] reinject_id;
-      reinject_id = copy_text(value);
+      reinject_id = value;
     } else if (keyword == "base") {
-      delete [] base_group_id;
-      base_group_id = copy_text(value);
+      base_group_id = value;
     } else if (keyword == "orifice") {
       orifice_centre = silokit::keyword_number(this, error, value, "orifice");
       have_orifice = true;
@@ -142,8 +132,7 @@ void FixClog::parse_arguments(int narg, char **arg)
     } else if (keyword == "directory") {
       directory = value;
     } else if (keyword == "contacts") {
-      delete [] contacts_id;
-      contacts_id = copy_text(value);
+      contacts_id = value;
     } else {
       const std::string message = "unknown keyword '" + keyword + "' (known: reinject, base, "
         "orifice, bottom, every, quiet_time, ratio, max_time, action, arches, directory, contacts)";
@@ -151,16 +140,16 @@ void FixClog::parse_arguments(int narg, char **arg)
     }
     iarg += 2;
   }
-  if (!reinject_id) error->fix_error(FLERR, this, "'reinject <fix-ID>' is required");
-  if (!base_group_id) error->fix_error(FLERR, this, "'base <group-ID>' is required");
+  if (reinject_id.empty()) error->fix_error(FLERR, this, "'reinject <fix-ID>' is required");
+  if (base_group_id.empty()) error->fix_error(FLERR, this, "'base <group-ID>' is required");
   if (!have_orifice) error->fix_error(FLERR, this, "'orifice <x of the outlet centre>' is required");
   if (!have_bottom) error->fix_error(FLERR, this, "'bottom <height of the silo bottom>' is required");
   if (have_arches && !break_arches)
     error->fix_error(FLERR, this, "'arches' needs 'action break' (action stop ends at the first clog)");
 
-  const int base_group = group->find(base_group_id);
+  const int base_group = group->find(base_group_id.c_str());
   if (base_group == -1) {
-    const std::string message = std::string("base group '") + base_group_id + "' does not exist";
+    const std::string message = "base group '" + base_group_id + "' does not exist";
     error->fix_error(FLERR, this, message.c_str());
   }
   base_groupbit = group->bitmask[base_group];
@@ -168,16 +157,7 @@ void FixClog::parse_arguments(int narg, char **arg)
 
 /* ---------------------------------------------------------------------- */
 
-FixClog::~FixClog()
-{
-  delete [] reinject_id;
-  delete [] base_group_id;
-  delete [] contacts_id;
-  if (clogs_file) fclose(clogs_file);
-  if (arches_file) fclose(arches_file);
-  if (feet_file) fclose(feet_file);
-  if (contacts_file) fclose(contacts_file);
-}
+FixClog::~FixClog() = default;   // closes the records
 
 /* ----------------------------------------------------------------------
    the contact forces come from a compute pair/gran/local; pair gran takes
@@ -186,16 +166,15 @@ FixClog::~FixClog()
 
 void FixClog::post_create()
 {
-  if (contacts_id) return;
+  if (!contacts_id.empty()) return;
   if (update->ntimestep > 0 && !modify->fix_restart_in_progress())
     error->fix_error(FLERR, this, "must be defined before the first run (it creates a compute "
                      "pair/gran/local, which LIGGGHTS allows only then), or name a compute "
                      "pair/gran/local defined before the first run with 'contacts'");
   if (!force->pair || !force->pair_match("gran", 0))
     error->fix_error(FLERR, this, "needs pair_style gran, defined before this fix");
-  const std::string compute_id = std::string(id) + "_contacts";
-  contacts_id = copy_text(compute_id.c_str());
-  const char *compute_args[] = { contacts_id, "all", "pair/gran/local", "id", "pos",
+  contacts_id = std::string(id) + "_contacts";
+  const char *compute_args[] = { contacts_id.c_str(), "all", "pair/gran/local", "id", "pos",
                                  "force_normal", "force_tangential", "delta" };
   modify->add_compute(8, const_cast<char **>(compute_args));
   own_contacts_compute = true;
@@ -203,8 +182,8 @@ void FixClog::post_create()
 
 void FixClog::pre_delete(bool unfixflag)
 {
-  if (unfixflag && own_contacts_compute && modify->find_compute(contacts_id) >= 0)
-    modify->delete_compute(contacts_id);
+  if (unfixflag && own_contacts_compute && modify->find_compute(contacts_id.c_str()) >= 0)
+    modify->delete_compute(contacts_id.c_str());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -218,9 +197,9 @@ int FixClog::setmask()
 
 void FixClog::init()
 {
-  const int ireinject = modify->find_fix(reinject_id);
+  const int ireinject = modify->find_fix(reinject_id.c_str());
   if (ireinject < 0 || strcmp(modify->fix[ireinject]->style, "reinject") != 0) {
-    const std::string message = std::string("'reinject' names no fix reinject: '") + reinject_id + "'";
+    const std::string message = "'reinject' names no fix reinject: '" + reinject_id + "'";
     error->fix_error(FLERR, this, message.c_str());
   }
   reinject = static_cast<FixReinject *>(modify->fix[ireinject]);
@@ -230,15 +209,14 @@ void FixClog::init()
                      "fix clog takes x as the horizontal axis of the silo");
   off_plane = 3 - vertical;
 
-  if (group->find(base_group_id) == -1) {
-    const std::string message = std::string("base group '") + base_group_id + "' no longer exists";
+  if (group->find(base_group_id.c_str()) == -1) {
+    const std::string message = "base group '" + base_group_id + "' no longer exists";
     error->fix_error(FLERR, this, message.c_str());
   }
 
-  const int icompute = modify->find_compute(contacts_id);
+  const int icompute = modify->find_compute(contacts_id.c_str());
   if (icompute < 0 || strcmp(modify->compute[icompute]->style, "pair/gran/local") != 0) {
-    const std::string message = std::string("'contacts' names no compute pair/gran/local: '")
-                                + contacts_id + "'";
+    const std::string message = "'contacts' names no compute pair/gran/local: '" + contacts_id + "'";
     error->fix_error(FLERR, this, message.c_str());
   }
   contacts = static_cast<ComputePairGranLocal *>(modify->compute[icompute]);
@@ -262,13 +240,14 @@ void FixClog::init()
 
 /* ---------------------------------------------------------------------- */
 
-FILE *FixClog::open_record(const char *name, const char *header)
+silokit::RecordFile FixClog::open_record(const char *name, const char *header)
 {
   // after a restart: the clogs past those the restart file knows are
   // removed (the run finds them again); every record begins with the clog
   const silokit::KeptRows kept = { 0, static_cast<double>(attempts) };
   long dropped = 0;
-  FILE *file = silokit::open_record(directory + "/" + name, restored, header, kept, &dropped);
+  silokit::RecordFile file = silokit::open_record(directory + "/" + name, restored, header, kept,
+                                                  &dropped);
   if (dropped > 0) {
     char message[256];
     snprintf(message, sizeof(message), "fix clog: removed %ld line(s) of clogs after clog %d from '%s', "
@@ -530,7 +509,7 @@ FixClog::Outcome FixClog::identify_arch(const std::vector<GrainRecord> &grains,
 
 std::vector<int> FixClog::grains_over_orifice(const std::vector<GrainRecord> &grains) const
 {
-  const GrainRecord *left = NULL, *right = NULL;
+  const GrainRecord *left = nullptr, *right = nullptr;
   double largest_radius = 0.0;
   for (size_t k = 0; k < grains.size(); ++k) {
     const GrainRecord &grain = grains[k];
@@ -561,10 +540,10 @@ void FixClog::write_records(const Outcome &outcome, int avalanche,
 {
   if (comm->me != 0) return;
   const int clog = attempts;
-  fprintf(clogs_file, "%d " BIGINT_FORMAT " %.12g %d %d %d\n", clog, update->ntimestep,
+  fprintf(clogs_file.get(), "%d " BIGINT_FORMAT " %.12g %d %d %d\n", clog, update->ntimestep,
           simulated_time(), avalanche, static_cast<int>(outcome.member_tags.size()),
           outcome.status);
-  fflush(clogs_file);
+  fflush(clogs_file.get());
   if (outcome.status == 0) return;
 
   // per grain: the mean over its contacts of |F_n| and |F_t|
@@ -591,25 +570,25 @@ void FixClog::write_records(const Outcome &outcome, int avalanche,
   };
   const int eta = static_cast<int>(outcome.member_tags.size());
   for (int k = 0; k < eta; ++k) {
-    write_grain(arches_file, k + 1, outcome.member_tags[k], outcome.member_phi[k]);
-    fputc('\n', arches_file);
+    write_grain(arches_file.get(), k + 1, outcome.member_tags[k], outcome.member_phi[k]);
+    fputc('\n', arches_file.get());
   }
-  fflush(arches_file);
+  fflush(arches_file.get());
   // the left foot before the first member (order 0), the right one after the last
   for (size_t side = 0; side < outcome.foot_tags.size(); ++side) {
-    write_grain(feet_file, side == 0 ? 0 : eta + 1, outcome.foot_tags[side], outcome.foot_phi[side]);
-    fprintf(feet_file, " %d %d\n", outcome.foot_base_tags[side], outcome.foot_on_floor[side]);
+    write_grain(feet_file.get(), side == 0 ? 0 : eta + 1, outcome.foot_tags[side], outcome.foot_phi[side]);
+    fprintf(feet_file.get(), " %d %d\n", outcome.foot_base_tags[side], outcome.foot_on_floor[side]);
   }
-  fflush(feet_file);
+  fflush(feet_file.get());
 
   const std::set<int> members(outcome.member_tags.begin(), outcome.member_tags.end());
   for (size_t k = 0; k < contact_list.size(); ++k) {
     const ContactRecord &c = contact_list[k];
     const int in_arch = members.count(c.id1) && members.count(c.id2);
-    fprintf(contacts_file, "%d %d %d %.12g %.12g %.10g %.10g %d\n", clog, c.id1, c.id2,
+    fprintf(contacts_file.get(), "%d %d %d %.12g %.12g %.10g %.10g %d\n", clog, c.id1, c.id2,
             c.horizontal, c.height, c.normal_force, c.tangential_force, in_arch);
   }
-  fflush(contacts_file);
+  fflush(contacts_file.get());
 }
 
 /* ---------------------------------------------------------------------- */

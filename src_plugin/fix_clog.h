@@ -20,6 +20,7 @@ FixStyle(clog,FixClog)
 
 #include "fix.h"
 #include "silokit_clock.h"
+#include "silokit_record.h"
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -69,9 +70,9 @@ class FixClog : public Fix {
   };
 
   // settings
-  char *reinject_id;
+  std::string reinject_id;
   class FixReinject *reinject;
-  char *base_group_id;
+  std::string base_group_id;
   int base_groupbit;
   double orifice_centre;       // horizontal (x) coordinate of the middle of the outlet
   double bottom;               // height of the silo bottom surface
@@ -81,7 +82,7 @@ class FixClog : public Fix {
   bool break_arches;           // action break (else stop)
   int arches_wanted;           // action break: done after this many arches
   std::string directory;
-  char *contacts_id;           // the compute pair/gran/local read at a clog
+  std::string contacts_id;     // the compute pair/gran/local read at a clog
   bool own_contacts_compute;   // created by this fix (else the user's)
   class ComputePairGranLocal *contacts;
   int vertical;                // 1 (y) or 2 (z): gravity along -vertical
@@ -101,12 +102,12 @@ class FixClog : public Fix {
 
   double last_ratio;           // Ec/Ep at the last check
   bool restored;               // state read from a restart file
-  FILE *clogs_file, *arches_file, *feet_file, *contacts_file;
+  silokit::RecordFile clogs_file, arches_file, feet_file, contacts_file;
 
   double simulated_time() const;
   void parse_arguments(int narg, char **arg);
   void open_records();
-  FILE *open_record(const char *name, const char *header);
+  silokit::RecordFile open_record(const char *name, const char *header);
   double kinetic_to_potential_ratio() const;
   void end_attempt(double now);
   std::vector<GrainRecord> gather_grains() const;

@@ -58,7 +58,7 @@ FixInsertRain2d::FixInsertRain2d(LAMMPS *lmp, int narg, char **arg) :
   grain_type(0), mean_diameter(0.0), polydispersity(0.05), density(0.0),
   line_lo(0.0), line_hi(0.0), line_height(0.0), fill(0.5), fall(-1.0),
   window(10), tolerance(0.01), max_grains(0), max_rows(0),
-  random(NULL), next_tag(0), rows(0), inserted(0), stop_reason(still_raining),
+  next_tag(0), rows(0), inserted(0), stop_reason(still_raining),
   last_row_first_tag(0), last_row_last_tag(-1), release_step(-1), last_release_step(-1),
   grains_per_row(0)
 {
@@ -84,10 +84,7 @@ FixInsertRain2d::FixInsertRain2d(LAMMPS *lmp, int narg, char **arg) :
   next_reneighbor = -1;
 }
 
-FixInsertRain2d::~FixInsertRain2d()
-{
-  delete random;
-}
+FixInsertRain2d::~FixInsertRain2d() = default;
 
 /* ---------------------------------------------------------------------- */
 
@@ -108,9 +105,8 @@ void FixInsertRain2d::parse_arguments(int narg, char **arg)
       const int seed = silokit::keyword_integer(this, error, value, "seed");
       if (!silokit::liggghts_seed_accepted(seed))
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 (LIGGGHTS' random generator requires it)");
-      delete random;
       // RanPark reads its text with atoi: give it the integer's digits
-      random = new RanPark(lmp, std::to_string(seed).c_str());
+      random.reset(new RanPark(lmp, std::to_string(seed).c_str()));
     } else if (keyword == "type") {
       grain_type = silokit::keyword_integer(this, error, value, "type");
       have_type = true;

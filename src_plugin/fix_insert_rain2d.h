@@ -19,9 +19,12 @@ FixStyle(insert/rain2d,FixInsertRain2d)
 #define LMP_FIX_INSERT_RAIN2D_H
 
 #include "fix.h"
+#include <memory>
 #include <vector>
 
 namespace LAMMPS_NS {
+
+class RanPark;
 
 class FixInsertRain2d : public Fix {
  public:
@@ -67,7 +70,7 @@ class FixInsertRain2d : public Fix {
   int max_rows;                // 0: no limit
 
   // state, kept across restarts
-  class RanPark *random;
+  std::unique_ptr<RanPark> random;
   int next_tag;                // tags are drawn here, never reused
   int rows;                    // rows released
   int inserted;                // grains inserted

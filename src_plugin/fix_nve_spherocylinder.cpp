@@ -28,12 +28,11 @@ using namespace LAMMPS_NS;
 FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
   FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg),
   rods_(dynamic_cast<AtomVecSpherocylinder *>(atom->avec)),
-  symmetric_top_(keyword_value(narg, arg, "integration_scheme", "symmetric_top") == "symmetric_top"),
-  pruning_(NULL)
+  symmetric_top_(keyword_value(narg, arg, "integration_scheme", "symmetric_top") == "symmetric_top")
 {
   if (!rods_) error->fix_error(FLERR, this, "needs atom_style spherocylinder");
   if (keyword_value(narg, arg, "prune_list", "yes") == "yes") {
-    pruning_ = new SpherocylinderListPruning(lmp);
+    pruning_.reset(new SpherocylinderListPruning(lmp));
     // the builds a turning rod needs: Neighbor::decide checks next_reneighbor
     force_reneighbor = 1;
     next_reneighbor = -1;
@@ -44,10 +43,7 @@ FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
 }
 
-FixNVESpherocylinder::~FixNVESpherocylinder()
-{
-  delete pruning_;
-}
+FixNVESpherocylinder::~FixNVESpherocylinder() = default;
 
 int FixNVESpherocylinder::setmask()
 {

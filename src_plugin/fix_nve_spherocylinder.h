@@ -38,6 +38,7 @@ FixStyle(nve/spherocylinder,FixNVESpherocylinder)
 #ifndef LMP_FIX_NVE_SPHEROCYLINDER_H
 #define LMP_FIX_NVE_SPHEROCYLINDER_H
 
+#include <memory>
 #include <string>
 
 #include "fix_nve_asphere_base.h"
@@ -69,8 +70,8 @@ class FixNVESpherocylinder : public FixNVEAsphereBase {
   class AtomVecSpherocylinder *rods_;
   bool symmetric_top_;
 
-  // NULL with prune_list no
-  SpherocylinderListPruning *pruning_;
+  // empty with prune_list no
+  std::unique_ptr<SpherocylinderListPruning> pruning_;
 };
 
 }

@@ -62,8 +62,8 @@ bool overlaps(const double *centre, double radius, const double *other_centre, d
 
 FixReinject::FixReinject(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  axis(-1), exit_coordinate(0.0), region_id(NULL), region(NULL), random(NULL),
-  max_attempts(1000), rate_window(0.1), record(NULL), restored(false),
+  axis(-1), exit_coordinate(0.0), region(nullptr),
+  max_attempts(1000), rate_window(0.1), restored(false),
   grains_out(0.0), mass_out(0.0), avalanche(0.0)
 {
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -104,18 +104,15 @@ void FixReinject::parse_arguments(int narg, char **arg)
       exit_coordinate = silokit::keyword_number(this, error, arg[iarg+2], "exit");
       have_exit = true;
     } else if (keyword == "region") {
-      delete [] region_id;
-      region_id = new char[strlen(value) + 1];
-      strcpy(region_id, value);
+      region_id = value;
     } else if (keyword == "seed") {
       const int seed = silokit::keyword_integer(this, error, value, "seed");
       if (seed <= 0) error->fix_error(FLERR, this, "'seed' must be a positive integer");
       if (!silokit::liggghts_seed_accepted(seed) && input->seed_check_throw_error())
         error->fix_error(FLERR, this, "'seed' must be a prime number > 10000 "
                                       "(LIGGGHTS' random generator requires it)");
-      delete random;
       // RanPark reads its text with atoi: give it the integer's digits
-      random = new RanPark(lmp, std::to_string(seed).c_str());
+      random.reset(new RanPark(lmp, std::to_string(seed).c_str()));
       have_seed = true;
     } else if (keyword == "every") {
       nevery = silokit::keyword_integer(this, error, value, "every");
@@ -137,7 +134,7 @@ void FixReinject::parse_arguments(int narg, char **arg)
     iarg += values + 1;
   }
   if (!have_exit) error->fix_error(FLERR, this, "'exit <axis> <coordinate>' is required");
-  if (!region_id) error->fix_error(FLERR, this, "'region <region-ID>' is required");
+  if (region_id.empty()) error->fix_error(FLERR, this, "'region <region-ID>' is required");
   if (!have_seed) error->fix_error(FLERR, this, "'seed <positive integer>' is required");
   if (domain->dimension == 2 && axis == 2)
     error->fix_error(FLERR, this, "in 2D the vertical axis is x or y, not z");
@@ -164,7 +161,7 @@ void FixReinject::open_record_file()
     const silokit::KeptRows kept = { 1, simulated_time() };
     long dropped = 0;
     record = silokit::open_record(file_name, restored, header.c_str(), kept, &dropped);
-    opened = record != NULL;
+    opened = record != nullptr;
     if (dropped > 0) {
       char message[256];
       snprintf(message, sizeof(message), "fix reinject: removed %ld line(s) past t = %.10g from '%s', "
@@ -182,12 +179,7 @@ void FixReinject::open_record_file()
 
 /* ---------------------------------------------------------------------- */
 
-FixReinject::~FixReinject()
-{
-  delete [] region_id;
-  delete random;
-  if (record) fclose(record);
-}
+FixReinject::~FixReinject() = default;   // closes the record
 
 /* ---------------------------------------------------------------------- */
 
@@ -200,9 +192,9 @@ int FixReinject::setmask()
 
 void FixReinject::init()
 {
-  const int iregion = domain->find_region(region_id);
+  const int iregion = domain->find_region(region_id.c_str());
   if (iregion == -1) {
-    std::string message = std::string("region '") + region_id + "' does not exist";
+    std::string message = "region '" + region_id + "' does not exist";
     error->fix_error(FLERR, this, message.c_str());
   }
   region = domain->regions[iregion];
@@ -392,9 +384,9 @@ void FixReinject::pre_exchange()
   move_local_grains(spots);
 
   if (record) {
-    fprintf(record, BIGINT_FORMAT " %.15g %.0f %.15g %.0f\n", update->ntimestep,
+    fprintf(record.get(), BIGINT_FORMAT " %.15g %.0f %.15g %.0f\n", update->ntimestep,
             simulated_time(), grains_out, mass_out, avalanche);
-    fflush(record);
+    fflush(record.get());
   }
 }
 

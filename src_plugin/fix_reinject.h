@@ -18,14 +18,18 @@ FixStyle(reinject,FixReinject)
 
 #include "fix.h"
 #include "silokit_clock.h"
+#include "silokit_record.h"
 #include <cstdio>
 #include <deque>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
+
+class RanPark;
 
 class FixReinject : public Fix {
  public:
@@ -54,13 +58,13 @@ class FixReinject : public Fix {
 
   int axis;                    // 0, 1, 2: the vertical axis (gravity along -axis)
   double exit_coordinate;      // a grain whose centre is below this has left
-  char *region_id;
+  std::string region_id;
   class Region *region;        // where grains re-enter
-  class RanPark *random;
+  std::unique_ptr<RanPark> random;
   int max_attempts;
   double rate_window;          // time over which the flow rate is averaged
   std::string file_name;       // of the record, empty without 'file'
-  FILE *record;                // one line per check with exits (rank 0)
+  silokit::RecordFile record;  // one line per check with exits (rank 0)
   bool restored;               // state read from a restart file: append to the record
   std::set<int> requested;     // tags to re-enter without being counted
 

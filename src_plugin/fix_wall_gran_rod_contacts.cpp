@@ -24,7 +24,7 @@
 using namespace LAMMPS_NS;
 
 FixWallGranRodContacts::FixWallGranRodContacts(LAMMPS *lmp, int narg, char **arg, int max_contacts) :
-  FixWallGran(lmp, narg, arg), slots_(max_contacts), rod_history_(NULL)
+  FixWallGran(lmp, narg, arg), slots_(max_contacts), rod_history_(nullptr)
 {
   // one slot per contact the wall's geometry can give a rod: then every
   // contact of a step finds a slot (take_slot), and the per-step arrays of
@@ -173,7 +173,7 @@ void FixWallGranRodContacts::apply_rod_contacts(int i, const silokit::WallContac
     sidata.i = i;
     sidata.radi = radius;
     sidata.deltan = contact.overlap;
-    sidata.contact_history = dnum_ > 0 ? slot + 2 : NULL;
+    sidata.contact_history = dnum_ > 0 ? slot + 2 : nullptr;
     for (int k = 0; k < 3; ++k) {
       sidata.delta[k] = distance*contact.normal[k];
       sidata.contact_point[k] = contact.wall_point[k] - 0.5*contact.overlap*contact.normal[k];

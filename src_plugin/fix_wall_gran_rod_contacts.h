@@ -46,7 +46,7 @@ class FixWallGranRodContacts : public FixWallGran {
 
  protected:
   // true when the particles are rods (atom_style spherocylinder)
-  bool rods() const { return rod_history_ != NULL; }
+  bool rods() const { return rod_history_ != nullptr; }
   // the rod's axis (unit vector), its core half-length and its radius
   void rod_of(int i, double *axis, double &half_length, double &radius) const;
   // applies the forces of rod i's contacts with this wall (none: its

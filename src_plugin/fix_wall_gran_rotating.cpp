@@ -83,18 +83,13 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, Arguments arguments) :
   size_vector = 4;
   global_freq = 1;
   extvector = -1;   // per element, extlist
-  extlist = new int[4];
-  extlist[0] = 0;   // angular velocity
-  extlist[1] = 1;   // axial force on the plate
-  extlist[2] = 1;   // torque on the plate about the axis
-  extlist[3] = 1;   // grains in contact
+  extlist = extensive;
+  extensive[0] = 0;   // angular velocity
+  extensive[1] = 1;   // axial force on the plate
+  extensive[2] = 1;   // torque on the plate about the axis
+  extensive[3] = 1;   // grains in contact
   for (int k = 0; k < 3; ++k) local_sums[k] = global_sums[k] = 0.0;
   restart_global = 1;
-}
-
-FixWallGranRotating::~FixWallGranRotating()
-{
-  delete [] extlist;
 }
 
 /* ----------------------------------------------------------------------
@@ -294,7 +289,7 @@ void FixWallGranRotating::post_force_primitive(int)
   const int *mask = atom->mask;
   double **force = atom->f;
   double **torque = atom->torque;
-  double **history = dnum() > 0 ? fix_history_primitive_->array_atom : NULL;
+  double **history = dnum() > 0 ? fix_history_primitive_->array_atom : nullptr;
   const double spin = angular_velocity();
   const double hole = hole_radius_now();
   const bool summing = computeflag_ != 0;
@@ -373,7 +368,7 @@ bool FixWallGranRotating::sphere_contact(int i, double **history, double spin, d
   sidata.omega_j = plate_spin;
   sidata.i = i;
   sidata.radi = radius;
-  sidata.contact_history = history ? history[i] : NULL;
+  sidata.contact_history = history ? history[i] : nullptr;
   sidata.deltan = -gap;
   for (int k = 0; k < 3; ++k) sidata.delta[k] = -contact.to_plate[k];
   impl->compute_force(this, sidata, touching, wall_velocity);

@@ -31,7 +31,6 @@ namespace LAMMPS_NS {
 class FixWallGranRotating : public FixWallGranRodContacts {
  public:
   FixWallGranRotating(class LAMMPS *, int, char **);
-  ~FixWallGranRotating();
   void setup(int vflag);
   double compute_vector(int);
   void write_restart(FILE *);
@@ -68,6 +67,8 @@ class FixWallGranRotating : public FixWallGranRodContacts {
   double local_sums[3];     // axial force, axial torque on the plate, contacts
   double global_sums[3];
   bigint reduced_step;
+
+  int extensive[4];         // extlist: which outputs are extensive
 
   // the command's arguments: FixWallGran's, and our keywords with their values
   struct Arguments {

@@ -74,7 +74,7 @@ namespace ContactModels
   public:
     RollingModel(class LAMMPS * lmp, IContactHistorySetup * hsetup, class ContactModelBase * c) :
         RollingModelBase(lmp, hsetup, c),
-        coefficient_friction(NULL), fixed_contact_length(NULL), rolling_damping_ratio(NULL),
+        coefficient_friction(nullptr), fixed_contact_length(nullptr), rolling_damping_ratio(nullptr),
         stiffness_factor(1.0), friction_factor(1.0),
         contact_length_from_overlap(false), contact_length_from_depth(false), rolling_damping(false),
         fixed_pairs_reported(false)
@@ -144,7 +144,7 @@ namespace ContactModels
 
       // relative rotation rate, its twisting part removed. A wall turns only
       // when its fix says so (omega_j set, e.g. fix wall/gran/rotating);
-      // stock walls leave omega_j NULL.
+      // stock walls leave omega_j null.
       double relative_omega[3];
       for (int k = 0; k < 3; ++k)
         relative_omega[k] = sidata.omega_j ? sidata.omega_i[k] - sidata.omega_j[k]

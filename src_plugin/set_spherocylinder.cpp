@@ -26,7 +26,7 @@ using namespace LAMMPS_NS;
 
 double SetSpherocylinder::number(const char *text, const char *keyword)
 {
-  char *end = NULL;
+  char *end = nullptr;
   const double value = strtod(text, &end);
   if (end == text || *end != '\0' || !std::isfinite(value))
     error->all(FLERR, (std::string("set_spherocylinder: '") + keyword + "' expects a number, got '" +
@@ -48,7 +48,7 @@ void SetSpherocylinder::command(int narg, char **arg)
   double omega[3] = {0.0, 0.0, 0.0};
   bool axis_given = false, axis_random = false, omega_given = false;
   int seed = 0;
-  const char *seed_text = NULL;
+  const char *seed_text = nullptr;
   for (int iarg = 1; iarg < narg;) {
     const std::string keyword = arg[iarg];
     if (keyword == "diameter" || keyword == "length" || keyword == "density") {

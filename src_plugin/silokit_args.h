@@ -24,7 +24,7 @@ namespace silokit {
 inline double keyword_number(LAMMPS_NS::Fix *fix, LAMMPS_NS::Error *error,
                              const char *text, const char *keyword)
 {
-  char *end = NULL;
+  char *end = nullptr;
   const double value = strtod(text, &end);
   if (end == text || *end != '\0' || !std::isfinite(value)) {
     const std::string message = std::string("'") + keyword + "' expects a number, got '" + text + "'";

@@ -23,7 +23,7 @@ inline std::vector<double> allgather(const std::vector<double> &local, MPI_Comm 
   MPI_Allgather(const_cast<int *>(&count), 1, MPI_INT, &counts[0], 1, MPI_INT, world);
   for (int p = 1; p < nprocs; ++p) offsets[p] = offsets[p-1] + counts[p-1];
   std::vector<double> all(offsets[nprocs-1] + counts[nprocs-1] + 1);  // +1: never empty
-  MPI_Allgatherv(count ? const_cast<double *>(&local[0]) : NULL, count, MPI_DOUBLE,
+  MPI_Allgatherv(count ? const_cast<double *>(&local[0]) : nullptr, count, MPI_DOUBLE,
                  &all[0], &counts[0], &offsets[0], MPI_DOUBLE, world);
   all.pop_back();
   return all;

@@ -12,10 +12,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace silokit {
+
+// A record file, closed when the fix that writes it goes (or when it is
+// replaced); empty on the ranks that write none.
+struct CloseFile {
+  void operator()(FILE *file) const { fclose(file); }
+};
+typedef std::unique_ptr<FILE, CloseFile> RecordFile;
 
 // What a fix restored from a restart file keeps of its record: the data
 // lines whose number in column `column` (0-based) is at most `last` (the
@@ -48,7 +56,7 @@ inline long drop_rows_past(const std::string &path, const KeptRows &kept)
       double value = 0.0;
       bool parsed = true;
       for (int k = 0; k <= kept.column && parsed; ++k) {
-        char *end = NULL;
+        char *end = nullptr;
         value = strtod(text, &end);
         parsed = end != text;        // not: a line cut short by the stop
         text = end;
@@ -73,19 +81,19 @@ inline long drop_rows_past(const std::string &path, const KeptRows &kept)
 // pieces of a restarted run write one series and nothing already recorded
 // is lost; lines past what the restart file covers are removed first
 // (drop_rows_past; their count in *dropped). `header` (its lines without
-// the last newline) is written only to an empty file. NULL if the file
+// the last newline) is written only to an empty file. Empty if the file
 // cannot be opened or rewritten.
-inline FILE *open_record(const std::string &path, bool restored, const char *header,
-                         const KeptRows &kept, long *dropped)
+inline RecordFile open_record(const std::string &path, bool restored, const char *header,
+                              const KeptRows &kept, long *dropped)
 {
   *dropped = restored ? drop_rows_past(path, kept) : 0;
-  if (*dropped < 0) return NULL;
-  FILE *file = fopen(path.c_str(), restored ? "a" : "w");
-  if (!file) return NULL;
-  fseek(file, 0, SEEK_END);
-  if (ftell(file) == 0) {
-    fprintf(file, "%s\n", header);
-    fflush(file);
+  if (*dropped < 0) return RecordFile();
+  RecordFile file(fopen(path.c_str(), restored ? "a" : "w"));
+  if (!file) return file;
+  fseek(file.get(), 0, SEEK_END);
+  if (ftell(file.get()) == 0) {
+    fprintf(file.get(), "%s\n", header);
+    fflush(file.get());
   }
   return file;
 }

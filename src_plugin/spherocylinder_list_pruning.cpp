@@ -115,8 +115,8 @@ void SpherocylinderListPruning::prune_after_build()
   for (int ii = 0; ii < list->inum; ++ii) {
     const int i = list->ilist[ii];
     int *neighbours = list->firstneigh[i];
-    int *touching = history ? history->firstneigh[i] : NULL;
-    double *values = history && dnum > 0 ? history->firstdouble[i] : NULL;
+    int *touching = history ? history->firstneigh[i] : nullptr;
+    double *values = history && dnum > 0 ? history->firstdouble[i] : nullptr;
     const int listed_i = list->numneigh[i];
     int kept = 0;
     for (int jj = 0; jj < listed_i; ++jj) {

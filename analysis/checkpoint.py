@@ -188,7 +188,8 @@ def keep(run_dir, kept, dump_cylinder=None):
     run_dir, kept = Path(run_dir), Path(kept)
     kept.mkdir(parents=True, exist_ok=True)
     (kept / CHECKPOINTS).write_text(f"{step} {checkpoint.name}\n")
-    shutil.copyfile(run_dir / "run.txt", kept / "run.txt")
+    if (run_dir / "run.txt").exists():         # a settling writes it at its end
+        shutil.copyfile(run_dir / "run.txt", kept / "run.txt")
     for name in ROW_RECORDS:
         if (run_dir / name).exists():
             with open(run_dir / name) as handle:

@@ -22,6 +22,14 @@ campaign lives in two places of the repository:
                             chooses another. It is emptied as the runs
                             finish: a campaign that has ended carries
                             nothing.
+    carry/<campaign>/packings/
+                            the campaign's settled packings
+                            (packing_s<seed>.restart.xz and its _run.txt,
+                            _screen.txt: run.sh's PACKINGS reads them), and
+    carry/<campaign>/settling_s<seed>/
+                            a settling cut short (run.sh's SETTLE_CHECKPOINT):
+                            its last checkpoint. `drop-packings` removes the
+                            packings when the campaign's runs are all done.
 
     python3 -m analysis.silo3d_carry keep RUN_DIR STORE [--dump-cylinder R Z ...]
             [--analysis OUT] [--carry DIR]
@@ -32,6 +40,8 @@ campaign lives in two places of the repository:
         unfinished one, in place of the one carried before. Safe while the
         runs go on (a checkpoint is listed once it is whole, and the
         records are cut back to it).
+    python3 -m analysis.silo3d_carry drop-packings STORE [--carry DIR]
+        Removes the carried packings once the campaign's runs are done.
     python3 -m analysis.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...] [--carry DIR]
         On the next machine: puts each archive (STORE's and the --also
         ones, archives of the same protocol kept elsewhere in doc/data)
@@ -63,8 +73,15 @@ MARK = "archived_in"      # in RUN_DIR: this finished run came from that archive
 ORIFICE_REGION = (0.06, 0.05)   # r < 6 cm, z < 5 cm: the orifice averages for D up to 8 cm
 
 
+PACKINGS = "packings"
+
+
 def run_dirs(directory):
     return sorted(p for p in Path(directory).glob("D*_f*_s*") if (p / "run.txt").exists())
+
+
+def packing_dirs(directory):
+    return sorted(p for p in Path(directory).glob("packing_s*") if p.is_dir())
 
 
 def carry_dir(store):
@@ -136,7 +153,69 @@ def keep(run_dir, store, more=(), analysis=None, carry=None):
         t = (step - info["step_open"]) * info["dt"]
         lines.append(f"{run.name}: unfinished, kept at its checkpoint of step {step} ({t:.2f} s of discharge) "
                      f"in {carry}")
+    return lines + keep_packings(run_dir, carry)
+
+
+def keep_packings(run_dir, carry):
+    """Carries run_dir's packings: a settled one (run.sh wrote `finished`)
+    into carry/packings in the form run.sh's PACKINGS reads, once; a
+    settling cut short at its last checkpoint into carry/settling_s<seed>.
+    A packing already in carry/packings is not written again. Returns one line per packing."""
+    carry, lines = Path(carry), []
+    for packing in packing_dirs(run_dir):
+        seed = packing.name[len("packing_s"):]
+        settling = carry / f"settling_{packing.name[len('packing_'):]}"
+        if (packing / "finished").exists() and (packing / "packing.restart").exists():
+            kept = carry / PACKINGS / f"packing_s{seed}.restart.xz"
+            if not kept.exists():
+                kept.parent.mkdir(parents=True, exist_ok=True)
+                partial = kept.with_name(kept.name + ".part")
+                with open(packing / "packing.restart", "rb") as source, lzma.open(partial, "wb") as packed:
+                    shutil.copyfileobj(source, packed)
+                shutil.copyfile(packing / "run.txt", kept.parent / f"packing_s{seed}_run.txt")
+                if (packing / "screen.txt").exists():
+                    shutil.copyfile(packing / "screen.txt", kept.parent / f"packing_s{seed}_screen.txt")
+                partial.rename(kept)
+                lines.append(f"{packing.name}: settled, carried in {kept.parent}")
+            shutil.rmtree(settling, ignore_errors=True)
+            continue
+        if checkpoint.last_checkpoint(packing) is None:
+            lines.append(f"{packing.name}: settling, no checkpoint yet, nothing carried")
+            continue
+        partial = settling.with_name(settling.name + ".part")
+        shutil.rmtree(partial, ignore_errors=True)
+        partial.parent.mkdir(parents=True, exist_ok=True)
+        step = checkpoint.keep(packing, partial)
+        pack_screen(packing, partial)
+        shutil.rmtree(settling, ignore_errors=True)
+        partial.rename(settling)
+        lines.append(f"{packing.name}: settling, kept at its checkpoint of step {step} in {settling}")
     return lines
+
+
+def restore_packings(carry, run_dir):
+    """Puts each settling carried in `carry` into run_dir/packing_s<seed>,
+    where run.sh (with SETTLE_CHECKPOINT) goes on with it; the settled
+    packings stay in carry/packings, which run.sh reads as PACKINGS."""
+    carry, run_dir, lines = Path(carry), Path(run_dir), []
+    for settling in sorted(carry.glob("settling_s*")):
+        seed = settling.name[len("settling_s"):]
+        target = run_dir / f"packing_s{seed}"
+        if (carry / PACKINGS / f"packing_s{seed}.restart.xz").exists():
+            lines.append(f"{settling.name}: ignored, its packing is settled")
+        elif target.exists():
+            lines.append(f"{settling.name}: {target} exists already, left as it is")
+        else:
+            checkpoint.restore(settling, target)
+            lines.append(f"{settling.name}: settling, restored at step {checkpoint.last_checkpoint(target)[0]}")
+    return lines
+
+
+def drop_packings(carry):
+    """Removes the campaign's carried packings (and the carry directory once
+    it holds nothing): the end of a campaign carries nothing."""
+    drop_carried(Path(carry) / PACKINGS)
+    return [f"packings dropped from {carry}"]
 
 
 def restore(store, run_dir, also=(), carry=None):
@@ -174,7 +253,7 @@ def restore(store, run_dir, also=(), carry=None):
             checkpoint.restore(carried, target)
             step, _ = checkpoint.last_checkpoint(target)
             lines.append(f"{carried.name}: unfinished, restored at its checkpoint of step {step}")
-    return lines
+    return lines + restore_packings(carry, run_dir)
 
 
 def main(argv=None):
@@ -198,6 +277,9 @@ def main(argv=None):
     restoring.add_argument("--also", nargs="+", type=Path, default=[], metavar="ARCHIVE",
                            help="more finished runs' archives (analysis.silo3d_archive)")
     restoring.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
+    dropping = actions.add_parser("drop-packings", help="remove the campaign's carried packings (its runs are done)")
+    dropping.add_argument("store", type=Path)
+    dropping.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     try:
         if args.action == "keep":
@@ -208,8 +290,10 @@ def main(argv=None):
                     raise ValueError(f"--dump-cylinder {radius:g} {top:g}: the radius must be > 0 m")
             lines = keep(args.run_dir, args.store, [tuple(c) for c in args.dump_cylinder],
                          args.analysis, args.carry)
-        else:
+        elif args.action == "restore":
             lines = restore(args.store, args.run_dir, args.also, args.carry)
+        else:
+            lines = drop_packings(args.carry if args.carry is not None else carry_dir(args.store))
     except (ValueError, FileNotFoundError) as error:
         print(f"silo3d_carry: ERROR: {error}", file=sys.stderr)
         return 2

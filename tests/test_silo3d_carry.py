@@ -149,3 +149,50 @@ def test_a_carried_run_that_is_archived_too_is_not_restored_and_bad_stores_are_r
     assert f"{finished.name}: in {tmp_path / 'c'} already, left as it is" in silo3d_carry.restore(store, tmp_path / "c")
     assert silo3d_carry.main(["keep", str(tmp_path / "nowhere"), str(store)]) == 2
     assert silo3d_carry.main(["keep", str(tmp_path / "machine1"), str(store), "--dump-cylinder", "0", "1"]) == 2
+
+
+def test_packings_are_carried_settled_or_at_their_last_settling_checkpoint(tmp_path):
+    """A settled packing goes to carry/packings in the form run.sh's
+    PACKINGS reads (the restart, xz, and its run.txt); a settling cut short
+    goes at its last checkpoint and comes back as a settling that run.sh's
+    SETTLE_CHECKPOINT resumes from that step; drop-packings removes them."""
+    machine1, store, carry = tmp_path / "machine1", tmp_path / "store", tmp_path / "carry"
+    settled, settling = machine1 / "packing_s11", machine1 / "packing_s13"
+    settled.mkdir(parents=True)
+    settling.mkdir()
+    restart = bytes(range(256)) * 16
+    (settled / "packing.restart").write_bytes(restart)
+    (settled / "run.txt").write_text("shape rod\naspect 4.0\nseed 11\n")
+    (settled / "screen.txt").write_text(SCREEN)
+    (settled / "finished").touch()
+    (settling / "checkpoints.txt").write_text("1000 checkpoint.1000.restart\n2000 checkpoint.2000.restart\n")
+    (settling / "checkpoint.1000.restart").write_bytes(b"first")
+    (settling / "checkpoint.2000.restart").write_bytes(b"second")
+    (settling / "screen.txt").write_text("settling\n")
+    assert silo3d_carry.main(["keep", str(machine1), str(store), "--carry", str(carry)]) == 0
+    kept = carry / "packings"
+    assert sorted(p.name for p in kept.iterdir()) == [
+        "packing_s11.restart.xz", "packing_s11_run.txt", "packing_s11_screen.txt"]
+    assert lzma.open(kept / "packing_s11.restart.xz").read() == restart
+    assert (kept / "packing_s11_run.txt").read_text() == "shape rod\naspect 4.0\nseed 11\n"
+    assert sorted(p.name for p in (carry / "settling_s13").iterdir()) == [
+        "checkpoint.2000.restart.xz", "checkpoints.txt", "screen.txt.xz"]
+
+    machine2 = tmp_path / "machine2"
+    assert silo3d_carry.main(["restore", str(store), str(machine2), "--carry", str(carry)]) == 0
+    resumed = machine2 / "packing_s13"
+    assert checkpoint.settle_resume_variables(resumed) == {
+        "settle_resume": 1, "checkpoint": str((resumed / "checkpoint.2000.restart").resolve()),
+        "settled_steps": 2000}
+    assert (resumed / "checkpoint.2000.restart").read_bytes() == b"second"
+    assert not (machine2 / "packing_s11").exists()     # run.sh reads it from carry/packings
+
+    # the settling finishes on machine 2: carried as a packing, its checkpoint dropped
+    (resumed / "packing.restart").write_bytes(b"settled 13")
+    (resumed / "run.txt").write_text("seed 13\n")
+    (resumed / "finished").touch()
+    assert silo3d_carry.main(["keep", str(machine2), str(store), "--carry", str(carry)]) == 0
+    assert lzma.open(kept / "packing_s13.restart.xz").read() == b"settled 13"
+    assert not (carry / "settling_s13").exists()
+    assert silo3d_carry.main(["drop-packings", str(store), "--carry", str(carry)]) == 0
+    assert not carry.exists()

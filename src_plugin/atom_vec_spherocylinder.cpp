@@ -14,9 +14,14 @@
 #include <string>
 
 #include "atom.h"
+#include "comm.h"
+#include "compute.h"
+#include "compute_pair_gran_local.h"
 #include "domain.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_insert.h"
+#include "fix_wall_gran.h"
 #include "force.h"
 #include "pair_gran.h"
 #include "math_extra.h"
@@ -80,38 +85,88 @@ void AtomVecSpherocylinder::init()
     if (modify->fix[i]->rad_mass_vary_flag)
       error->all(FLERR, "atom_style spherocylinder: fixes that change the particle radius "
                         "(fix adapt, ...) are not supported");
-  refuse_sphere_only_styles();
+  check_styles_take_rods();
 }
 
 /* ----------------------------------------------------------------------
-   Styles that would treat a rod as its bounding sphere (radius L/2) run
-   without complaint and give wrong physics: refuse them by name.
+   The rule for rods (doc/spherocylinder.md, "Which styles take rods"). To
+   a stock style a rod is its bounding sphere (radius L/2), so:
+   - the styles that know rods, and stock ones that never read the radius,
+     are listed below, and run;
+   - any other fix that moves, places or touches particles (an integrator,
+     an insertion, a granular wall, multisphere), or that judges the time
+     step by the radius (check/timestep/gran), is refused: it would give
+     rods the physics of spheres, and nothing in the output would show it;
+   - any other fix or compute runs with a warning (once per ID): where it
+     reads the radius (outputs, mostly) it gets the bounding sphere's;
+   - the pair style must be gran with surface spherocylinder.
 ------------------------------------------------------------------------- */
 
-void AtomVecSpherocylinder::refuse_sphere_only_styles()
+namespace {
+
+const char *const rod_fixes[] = {
+  // know rods
+  "nve/spherocylinder", "wall/gran/spherocylinder", "wall/gran/rotating", "reinject",
+  // never read the radius
+  "gravity", "property/global", "property/atom", "contacthistory", "print", "ave/time",
+};
+const char *const rod_computes[] = {
+  // know rods
+  "spherocylinder/axis",
+  // never read the radius (the thermo output's three, and reductions)
+  "temp", "pressure", "pe", "ke", "reduce",
+};
+
+template <size_t n>
+bool listed(const char *const (&names)[n], const std::string &style)
 {
-  // style (or the start of its name, ending in '*') -> what to use instead
-  static const char *sphere_fixes[][2] = {
-    {"wall/gran", "fix wall/gran/spherocylinder"},
-    {"nve", "fix nve/spherocylinder"},
-    {"nve/*", "fix nve/spherocylinder"},
-    {"multisphere*", "rods of their own (this atom style)"},
-    {"insert/*", "create_atoms on a lattice and set_spherocylinder ... axis random"},
-    {"clog", "nothing yet: fix clog finds arches of spheres"},
-    {"check/timestep/gran", "nothing yet: it takes the bounding radius for the grain size"},
-  };
+  for (size_t k = 0; k < n; ++k)
+    if (style == names[k]) return true;
+  return false;
+}
+
+// What an unlisted fix would do wrong with rods, and what to use instead;
+// empty for one that may run (with a warning)
+std::string sphere_physics_of(Fix *fix)
+{
+  const std::string style = fix->style;
+  if (fix->time_integrate) return "use fix nve/spherocylinder";
+  if (dynamic_cast<FixInsert *>(fix))
+    return "use create_atoms on a lattice and set_spherocylinder ... axis random";
+  if (dynamic_cast<FixWallGran *>(fix))
+    return "use fix wall/gran/spherocylinder or fix wall/gran/rotating";
+  if (style.compare(0, 11, "multisphere") == 0) return "rods are rigid bodies of their own (this atom style)";
+  if (style == "check/timestep/gran")
+    return "fix nve/spherocylinder checks the time step against the contact time of rods";
+  return "";
+}
+
+// Whether compute pair/gran/local stores nothing it takes from the radius
+// (the overlap 'delta', the contact area, the contact point)
+bool pair_gran_local_without_radius(Compute *compute)
+{
+  ComputePairGranLocal *local = dynamic_cast<ComputePairGranLocal *>(compute);
+  return local && local->offset_delta() < 0 && local->offset_area() < 0 &&
+         local->offset_contact_point() < 0;
+}
+
+}  // namespace
+
+void AtomVecSpherocylinder::check_styles_take_rods()
+{
   for (int i = 0; i < modify->nfix; i++) {
-    const std::string style = modify->fix[i]->style;
-    if (style == "nve/spherocylinder") continue;
-    for (size_t k = 0; k < sizeof(sphere_fixes)/sizeof(sphere_fixes[0]); ++k) {
-      const std::string pattern = sphere_fixes[k][0];
-      const bool prefix = pattern[pattern.size() - 1] == '*';
-      const bool matches = prefix ? style.compare(0, pattern.size() - 1, pattern, 0, pattern.size() - 1) == 0
-                                  : style == pattern;
-      if (matches)
-        error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(modify->fix[i]->id) + " (" +
-                           style + ") treats rods as spheres; use " + sphere_fixes[k][1]).c_str());
-    }
+    Fix *fix = modify->fix[i];
+    if (listed(rod_fixes, fix->style)) continue;
+    const std::string instead = sphere_physics_of(fix);
+    if (!instead.empty())
+      error->all(FLERR, ("atom_style spherocylinder: fix " + std::string(fix->id) + " (" + fix->style +
+                         ") treats rods as spheres; " + instead).c_str());
+    warn_once("fix", fix->id, fix->style);
+  }
+  for (int i = 0; i < modify->ncompute; i++) {
+    Compute *compute = modify->compute[i];
+    if (listed(rod_computes, compute->style) || pair_gran_local_without_radius(compute)) continue;
+    warn_once("compute", compute->id, compute->style);
   }
   PairGran *pair = force->pair ? dynamic_cast<PairGran *>(force->pair) : nullptr;
   if (force->pair && !pair)
@@ -120,6 +175,14 @@ void AtomVecSpherocylinder::refuse_sphere_only_styles()
     const std::string problem = silokit::rod_model_problem(*pair);
     if (!problem.empty()) error->all(FLERR, ("atom_style spherocylinder: pair_style gran " + problem).c_str());
   }
+}
+
+void AtomVecSpherocylinder::warn_once(const char *kind, const char *id, const char *style)
+{
+  const std::string what = std::string(kind) + " " + id + " (" + style + ")";
+  if (!warned_.insert(what).second || comm->me != 0) return;
+  error->warning(FLERR, ("atom_style spherocylinder: " + what + " is not known to take rods: "
+                         "where it reads the radius, it gets the bounding sphere's (L/2)").c_str());
 }
 
 /* ---------------------------------------------------------------------- */

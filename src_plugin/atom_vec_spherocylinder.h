@@ -37,6 +37,9 @@ AtomStyle(spherocylinder,AtomVecSpherocylinder)
 
 #include "atom_vec_sphere.h"
 
+#include <set>
+#include <string>
+
 namespace LAMMPS_NS {
 
 class AtomVecSpherocylinder : public AtomVecSphere {
@@ -95,7 +98,13 @@ class AtomVecSpherocylinder : public AtomVecSphere {
   // borders, all four arrays in exchange and restart
   static const int ROD_COMM = 4, ROD_BORDER = 7, ROD_ALL = 13;
 
-  void refuse_sphere_only_styles();
+  // IDs of the fixes and computes already warned of (check_styles_take_rods)
+  std::set<std::string> warned_;
+
+  // refuses the styles that would give rods the physics of spheres and
+  // warns of the others not known to take rods (the .cpp gives the rule)
+  void check_styles_take_rods();
+  void warn_once(const char *kind, const char *id, const char *style);
   // the rods' part of forward communication (quaternions) and of borders
   // (quaternions and shapes), for the plain and the velocity variants
   int pack_quaternions(int n, const int *list, double *buf) const;

@@ -20,6 +20,7 @@
 
 #include "arch_walk.h"
 #include "atom.h"
+#include "atom_vec_spherocylinder.h"
 #include "comm.h"
 #include "compute_pair_gran_local.h"
 #include "domain.h"
@@ -75,6 +76,9 @@ FixClog::FixClog(LAMMPS *lmp, int narg, char **arg) :
     error->fix_error(FLERR, this, "needs per-atom radius, mass and omega (atom_style sphere or granular)");
   if (!atom->tag_enable)
     error->fix_error(FLERR, this, "needs atom IDs");
+  // the arch walk (arch_walk.h) takes grains for discs or spheres
+  if (dynamic_cast<AtomVecSpherocylinder *>(atom->avec))
+    error->fix_error(FLERR, this, "finds arches of spheres: rods (atom_style spherocylinder) are not supported");
 
   nevery = 1000;
   parse_arguments(narg, arg);

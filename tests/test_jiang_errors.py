@@ -15,7 +15,9 @@ definition, and a keyword placed before `primitive` is refused with
 "Unknown argument or wrong keyword order: 'primitive'" (stock behaviour;
 checked in test_wall_keywords_before_wall_arguments_are_refused).
 
-run_deck is conftest.run_liggghts with a timeout: a hang fails the test.
+run_deck is conftest.run_liggghts with a timeout (a hang fails the test)
+and batch=True: the output goes to files without stdbuf, as in a cluster
+job, so every message checked here is one that reaches such a file.
 """
 
 
@@ -32,7 +34,8 @@ TIMEOUT = 120           # a hang shows up as TimeoutExpired, i.e. a failure
 
 
 def run_deck(deck, workdir, nprocs=1):
-    return run_liggghts(deck, workdir, nprocs=nprocs, timeout=TIMEOUT)
+    # batch: output to files, no stdbuf, as a cluster job (tests/test_batch_errors.py)
+    return run_liggghts(deck, workdir, nprocs=nprocs, timeout=TIMEOUT, batch=True)
 
 
 def deck(where, settings="", properties=per_pair("rollingContactLength", CONTACT_LENGTH),

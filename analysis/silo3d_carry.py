@@ -40,6 +40,8 @@ campaign lives in two places of the repository:
         unfinished one, in place of the one carried before. Safe while the
         runs go on (a checkpoint is listed once it is whole, and the
         records are cut back to it).
+    python3 -m analysis.silo3d_carry carry-dir STORE
+        Prints where STORE's campaign carries its runs and packings.
     python3 -m analysis.silo3d_carry drop-packings STORE [--carry DIR]
         Removes the carried packings once the campaign's runs are done.
     python3 -m analysis.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...] [--carry DIR]
@@ -277,6 +279,8 @@ def main(argv=None):
     restoring.add_argument("--also", nargs="+", type=Path, default=[], metavar="ARCHIVE",
                            help="more finished runs' archives (analysis.silo3d_archive)")
     restoring.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
+    where = actions.add_parser("carry-dir", help="print where STORE's campaign carries its runs and packings")
+    where.add_argument("store", type=Path)
     dropping = actions.add_parser("drop-packings", help="remove the campaign's carried packings (its runs are done)")
     dropping.add_argument("store", type=Path)
     dropping.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
@@ -290,6 +294,9 @@ def main(argv=None):
                     raise ValueError(f"--dump-cylinder {radius:g} {top:g}: the radius must be > 0 m")
             lines = keep(args.run_dir, args.store, [tuple(c) for c in args.dump_cylinder],
                          args.analysis, args.carry)
+        elif args.action == "carry-dir":
+            print(carry_dir(args.store))
+            return 0
         elif args.action == "restore":
             lines = restore(args.store, args.run_dir, args.also, args.carry)
         else:

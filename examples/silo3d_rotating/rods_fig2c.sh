@@ -3,22 +3,30 @@
 # campaign"): D = 60 mm, L/d = 3.3, six frequencies in three packings, each
 # frequency with its own discharge and transient, two runs at a time, carried
 # from session to session (a session's machine may not outlive it) through
-# a store in the repository (analysis.silo3d_carry).
+# the repository (analysis.silo3d_carry): the finished runs' reduced records
+# in a store in doc/data, the unfinished runs' last checkpoints and the
+# settled packings in carry/<store's name>/. With ASPECT, PROTOCOL and STORE
+# it runs another aspect ratio's campaign (rods_elongation.sh).
 #
 #   bash examples/silo3d_rotating/rods_fig2c.sh run  RUN_DIR
 #       puts the store's runs into RUN_DIR (finished ones as done, unfinished
 #       ones at their last checkpoint), runs what is left with run.sh and,
 #       when all are done, analyses the whole campaign into RUN_DIR/analysis
 #   bash examples/silo3d_rotating/rods_fig2c.sh keep RUN_DIR
-#       at a session's end (the runs may go on): archives the finished runs
-#       into the store and keeps the unfinished ones' last checkpoints; then
-#       commit the store
+#       before the machine goes (the runs may go on): analyses the finished
+#       runs (their orifice tables and fields), archives them into the store
+#       and carries the unfinished ones' last checkpoints and the packings;
+#       then commit the store and carry/
 #
 # Environment (defaults in brackets):
 #   FS, SEEDS  run only these of the protocol's frequencies, of the seeds
 #              [all: "0 0.16 0.32 0.64 0.96 1.28", "32452843 15485863 49979687"]
 #   DS         the orifice diameter, m  [0.06]
-#   PACKINGS   the kept packings        [doc/data/silo3d_rods/packings]
+#   ASPECT     the rods' L/d            [3.3]
+#   PACKINGS   the settled packings     [carry/<store's name>/packings when
+#              it exists, else none: each seed is settled (0.6 CPU-h at 3.3)]
+#   SETTLE_CHECKPOINT  s of settling between checkpoints, so that a
+#              settling can be carried too [0.25]
 #   PROTOCOL   "f discharge transient" triples, s: each frequency's run
 #              length and the start left out of Q   [the campaign's, below]
 #   STORE      the campaign's store        [doc/data/silo3d_rods_fig2c]
@@ -39,18 +47,16 @@ STORE="${STORE:-$ROOT/doc/data/silo3d_rods_fig2c}"
 ALSO="${ALSO-$ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0_s32452843 $ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0.16_s32452843 $ROOT/doc/data/silo3d_rods_drop_8s/D0.06_f0.16_s15485863 $ROOT/doc/data/silo3d_rods_transient/D0.06_f0.64_s32452843}"
 SEEDS="${SEEDS:-32452843 15485863 49979687}"
 DS="${DS:-0.06}"
-PACKINGS="${PACKINGS:-$ROOT/doc/data/silo3d_rods/packings}"
 PYTHON="${PYTHON:-/usr/bin/python3}"
 analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
+ASPECT="${ASPECT:-3.3}"
+CARRIED_PACKINGS="$(analysis analysis.silo3d_carry carry-dir "$STORE")/packings"
+if [ -z "${PACKINGS:-}" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
+PACKINGS="${PACKINGS:-}"
+SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0.25}"
 # the dumps keep the orifice region and the column over the axis (the
 # axial acceleration, analysis.silo3d_acceleration)
 COLUMN=(--dump-cylinder 0.025 0.2)
-
-if [ "$ACTION" = keep ]; then
-  [ -d "$RUN_DIR" ] || { echo "rods_fig2c.sh: no run directory $RUN_DIR" >&2; exit 2; }
-  analysis analysis.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
-  exit 0
-fi
 
 set -- $PROTOCOL
 [ $# -gt 0 ] && [ $(( $# % 3 )) -eq 0 ] || { echo "rods_fig2c.sh: PROTOCOL needs \"f discharge transient\" triples, got: $PROTOCOL" >&2; exit 2; }
@@ -71,10 +77,21 @@ for f in $FS; do
   [ $found = 1 ] || { echo "rods_fig2c.sh: FS: $f is not one of the protocol's frequencies ($ALL_FS)" >&2; exit 2; }
 done
 
+if [ "$ACTION" = keep ]; then
+  [ -d "$RUN_DIR" ] || { echo "rods_fig2c.sh: no run directory $RUN_DIR" >&2; exit 2; }
+  # the finished runs' orifice tables and fields come from their dumps,
+  # which the store does not keep: analyse them before they are archived
+  finished=()
+  for run in "$RUN_DIR"/D*_f*_s*; do [ -f "$run/finished" ] && finished+=("$run"); done
+  [ ${#finished[@]} = 0 ] || analysis analysis.silo3d_rotating "${finished[@]}" --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
+  analysis analysis.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
+  exit 0
+fi
+
 analysis analysis.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
 # (DISCHARGE and TRANSIENT are each frequency's, from DISCHARGE_AT and
 # TRANSIENT_AT: run.sh needs defaults, never used)
-SHAPE=rod ASPECT=3.3 DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" \
+SHAPE=rod ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" SETTLE_CHECKPOINT="$SETTLE_CHECKPOINT" \
   DISCHARGE=1 TRANSIENT=0 DISCHARGE_AT="$DISCHARGE_AT" TRANSIENT_AT="$TRANSIENT_AT" \
   FIELDS="$(for f in $FS; do echo -n "$DS $f "; done)" JOBS="${JOBS:-2}" ANALYSE=0 \
   bash "$ROOT/examples/silo3d_rotating/run.sh" "$RUN_DIR"

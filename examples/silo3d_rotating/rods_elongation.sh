@@ -1,0 +1,66 @@
+#!/bin/bash
+# The rods' elongation campaign (Pongó et al. 2022, Figs. 3a and 3b;
+# doc/silo3d_rotating.md, "Elongation"): L/d = 4.0 and 2.5 at D = 60 mm,
+# f = 0, 0.32 and 1.28 Hz, two packings each, Q over the same 2-4 s window
+# of 4 s runs at every point (the window the L/d = 3.3 values are taken
+# over too). It runs rods_fig2c.sh once per stage, in the order that gives
+# Fig. 3a first and L/d = 4.0 before 2.5:
+#
+#   1. 4.0, first packing, f = 0 and 0.32     2. 4.0, second packing, same
+#   3. 2.5, first packing, f = 0 and 0.32     4. 2.5, second packing, same
+#   5. 4.0, both packings, f = 1.28           6. 2.5, both packings, f = 1.28
+#
+#   bash examples/silo3d_rotating/rods_elongation.sh run  RUN_DIR
+#       restores what earlier machines carried and runs the stages in order
+#       (each stage's settling and runs resume where they stopped)
+#   bash examples/silo3d_rotating/rods_elongation.sh keep RUN_DIR
+#       before the machine goes (the runs may go on): analyses and archives
+#       the finished runs into doc/data/silo3d_rods_elongation_L<aspect>
+#       and carries the rest into carry/; then commit both
+#
+# Environment (defaults in brackets):
+#   STAGES   which stages, in which order      ["1 2 3 4 5 6"]
+#   JOBS     runs at once within a stage        [1]
+#   STORES   the folder of the stores           [doc/data]
+#   PROTOCOL "f discharge transient" triples    ["0 4 2  0.32 4 2  1.28 4 2"]
+#   DECK_VARS, CHECKPOINT go to run.sh (e.g. DECK_VARS="quick 1" for a test)
+#   SILOKIT_LIGGGHTS, SILOKIT_INPUTS: a frozen binary and decks for a
+#            campaign that outlasts the tree's changes (run.sh)
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+ACTION="${1:-}"
+RUN_DIR="${2:-}"
+[ -n "$RUN_DIR" ] && { [ "$ACTION" = run ] || [ "$ACTION" = keep ]; } || {
+  echo "usage: bash examples/silo3d_rotating/rods_elongation.sh run|keep RUN_DIR" >&2; exit 2; }
+STAGES="${STAGES:-1 2 3 4 5 6}"
+FIRST=32452843 SECOND=15485863
+# the same window at every aspect ratio: Q over 2-4 s of 4 s runs
+PROTOCOL="${PROTOCOL:-0 4 2  0.32 4 2  1.28 4 2}"
+STORES="${STORES:-$ROOT/doc/data}"
+
+stage() {   # stage N -> "aspect seeds frequencies"
+  case "$1" in
+    1) echo "4.0|$FIRST|0 0.32" ;;  2) echo "4.0|$SECOND|0 0.32" ;;
+    3) echo "2.5|$FIRST|0 0.32" ;;  4) echo "2.5|$SECOND|0 0.32" ;;
+    5) echo "4.0|$FIRST $SECOND|1.28" ;;  6) echo "2.5|$FIRST $SECOND|1.28" ;;
+    *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-6)" >&2; return 2 ;;
+  esac
+}
+campaign() {   # campaign ACTION ASPECT SEEDS FS
+  ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" \
+    STORE="$STORES/silo3d_rods_elongation_L$2" \
+    bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/L$2"
+}
+
+for n in $STAGES; do stage "$n" > /dev/null || exit 2; done
+if [ "$ACTION" = keep ]; then
+  for aspect in 4.0 2.5; do
+    [ -d "$RUN_DIR/L$aspect" ] && campaign keep "$aspect" "$FIRST $SECOND" "0 0.32 1.28"
+  done
+  exit 0
+fi
+for n in $STAGES; do
+  IFS="|" read -r aspect seeds fs <<< "$(stage "$n")"
+  echo "[$(date +%H:%M:%S)] rods_elongation: stage $n: L/d = $aspect, seeds $seeds, f = $fs Hz"
+  campaign run "$aspect" "$seeds" "$fs"
+done

@@ -1,0 +1,49 @@
+"""examples/silo3d_rotating/rods_elongation.sh on the quick silo (300 rods):
+a stage settles its packing with checkpoints and runs its two frequencies;
+`keep` archives the finished runs (with their orifice tables) and carries
+the packing; the next machine takes the packing from carry/ (not settled
+again) and skips the archived runs."""
+
+import os
+import subprocess
+
+from analysis.silo3d_records import read_run_info
+from conftest import LIGGGHTS, ROOT
+
+DRIVER = ROOT / "examples" / "silo3d_rotating" / "rods_elongation.sh"
+
+
+def driver(action, run_dir, stores, **environment):
+    settings = {**os.environ, "SILOKIT_LIGGGHTS": str(LIGGGHTS), "STORES": str(stores), "STAGES": "1",
+                "PROTOCOL": "0 0.06 0.02  0.32 0.06 0.02  1.28 0.06 0.02", "CHECKPOINT": "0",
+                "DECK_VARS": "quick 1 settle_time 0.3", **environment}
+    result = subprocess.run(["bash", str(DRIVER), action, str(run_dir)], env=settings, capture_output=True,
+                            text=True, timeout=900)
+    return result, result.stdout + result.stderr
+
+
+def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carried_packing(tmp_path):
+    stores = tmp_path / "data"
+    first, log = driver("run", tmp_path / "machine1", stores)
+    assert first.returncode == 0, log
+    assert "stage 1: L/d = 4.0, seeds 32452843, f = 0 0.32 Hz" in log
+    runs = tmp_path / "machine1" / "L4.0"
+    assert read_run_info(runs / "packing_s32452843")["aspect"] == 4.0
+    for f in ("0", "0.32"):
+        assert (runs / f"D0.06_f{f}_s32452843" / "finished").exists()
+    kept, log = driver("keep", tmp_path / "machine1", stores)
+    assert kept.returncode == 0, log
+    store = stores / "silo3d_rods_elongation_L4.0"
+    for f in ("0", "0.32"):
+        assert (store / f"D0.06_f{f}_s32452843" / "orifice_timeseries.md").exists(), log
+    carried = stores / "carry" / "silo3d_rods_elongation_L4.0" / "packings"   # beside the stores, outside a git tree
+    assert (carried / "packing_s32452843.restart.xz").exists(), log
+
+    second, log = driver("run", tmp_path / "machine2", stores)
+    assert second.returncode == 0, log
+    assert "packing of seed 32452843: the kept one" in log and "settling" not in log
+    assert log.count("done before, skipped") == 2
+
+    wrong, log = driver("run", tmp_path / "machine3", stores, STAGES="1 9")
+    assert wrong.returncode == 2 and "STAGES: no stage '9' (1-6)" in log
+    assert not (tmp_path / "machine3").exists()

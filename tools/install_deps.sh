@@ -2,14 +2,16 @@
 # Installs what silokit needs on Debian 12 (as root): compilers, cmake, ccache,
 # Open MPI, VTK (LIGGGHTS' ParaView dump styles, doc/vtk_output.md), Debian's
 # liggghts (the reference binary), Python with numpy, scipy, matplotlib,
-# pytest and VTK's bindings (the tests read the frames back with them), and a
+# pytest and VTK's bindings (the tests read the frames back with them),
+# setuptools and venv (pip install -e . of pyproject.toml, offline), and a
 # deb-src entry so that `apt-get source liggghts` works. Does nothing when
 # everything is already there.
 set -euo pipefail
 
 packages=(build-essential cmake ccache patch xz-utils dpkg-dev
           openmpi-bin libopenmpi-dev libvtk9-dev liggghts
-          python3 python3-numpy python3-scipy python3-matplotlib python3-pytest python3-vtk9)
+          python3 python3-numpy python3-scipy python3-matplotlib python3-pytest python3-vtk9
+          python3-setuptools python3-venv)
 
 # deb-src for Debian's main archive, same mirror and suite as the existing
 # `deb` entry (deb822 .sources or one-line .list format)

@@ -61,15 +61,6 @@ def binary():
     return built
 
 
-def test_the_default_build_carries_no_example_style():
-    """The example is built only on request."""
-    cache = LIGGGHTS.parent.parent / "CMakeCache.txt"
-    if "SILOKIT_LIGGGHTS" in os.environ or not cache.exists():
-        pytest.skip("not the default build tree")
-    assert "SILOKIT_USER_STYLES:STRING=\n" in cache.read_text()
-    assert not has_style(LIGGGHTS)
-
-
 def check_free_fall(run):
     """Each of the 144 grains crosses once, at its start x, y, with the
     free-fall velocity of its start height. The velocity written is that of

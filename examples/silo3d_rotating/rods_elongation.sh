@@ -18,6 +18,9 @@
 #       the finished runs into doc/data/silo3d_rods_elongation_L<aspect>
 #       and carries the rest into carry/; then commit both
 #
+# Settlings write a checkpoint every 0.25 s, so that one cut short by the
+# machine's end is carried too (a settling of 22 500 rods takes hours).
+#
 # Environment (defaults in brackets):
 #   STAGES   which stages, in which order      ["1 2 3 4 5 6"]
 #   JOBS     runs at once within a stage        [1]
@@ -47,7 +50,7 @@ stage() {   # stage N -> "aspect seeds frequencies"
   esac
 }
 campaign() {   # campaign ACTION ASPECT SEEDS FS
-  ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" \
+  ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" SETTLE_CHECKPOINT=0.25 \
     STORE="$STORES/silo3d_rods_elongation_L$2" \
     bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/L$2"
 }

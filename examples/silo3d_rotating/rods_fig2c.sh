@@ -26,7 +26,9 @@
 #   PACKINGS   the settled packings     [carry/<store's name>/packings when
 #              it exists, else none: each seed is settled (0.6 CPU-h at 3.3)]
 #   SETTLE_CHECKPOINT  s of settling between checkpoints, so that a
-#              settling can be carried too [0.25]
+#              settling can be carried too; 0: in one run, which gives the
+#              3.3 campaign's packings again to the printed digits (with
+#              checkpoints the trajectory differs at round-off)   [0]
 #   PROTOCOL   "f discharge transient" triples, s: each frequency's run
 #              length and the start left out of Q   [the campaign's, below]
 #   STORE      the campaign's store        [doc/data/silo3d_rods_fig2c]
@@ -51,9 +53,9 @@ PYTHON="${PYTHON:-/usr/bin/python3}"
 analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
 ASPECT="${ASPECT:-3.3}"
 CARRIED_PACKINGS="$(analysis analysis.silo3d_carry carry-dir "$STORE")/packings"
-if [ -z "${PACKINGS:-}" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
 PACKINGS="${PACKINGS:-}"
-SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0.25}"
+if [ -z "$PACKINGS" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
+SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0}"
 # the dumps keep the orifice region and the column over the axis (the
 # axial acceleration, analysis.silo3d_acceleration)
 COLUMN=(--dump-cylinder 0.025 0.2)

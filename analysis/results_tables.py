@@ -21,6 +21,7 @@ the records behind it.
 """
 
 import argparse
+import functools
 import importlib
 import re
 import sys
@@ -82,9 +83,12 @@ def markdown_table(rows, page=None):
     return "\n".join(lines) + "\n"
 
 
+@functools.lru_cache(maxsize=None)
 def scene_rows(scene, data_dir=DATA_DIR):
+    """The rows of a scene (computed once per process: some take half a
+    minute, from bootstraps over the records)."""
     module_name, _ = SCENES[scene]
-    return importlib.import_module(module_name).results_rows(Path(data_dir))
+    return tuple(importlib.import_module(module_name).results_rows(Path(data_dir)))
 
 
 def tables(data_dir=DATA_DIR, scenes=None):

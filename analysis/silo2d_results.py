@@ -243,8 +243,15 @@ def results_rows(data_dir=DATA_DIR):
             + table1_rows(rows, walk_rows, plate_rows))
 
 
-def main():
+def main(argv=None):
+    import argparse
     from analysis.results_tables import markdown_table
+    parser = argparse.ArgumentParser(
+        prog="/usr/bin/python3 -m analysis.silo2d_results",
+        description="Print the rows of doc/silo2d.md's results table, computed from doc/data "
+                    "(about half a minute).",
+        epilog="example: /usr/bin/python3 -m analysis.silo2d_results")
+    parser.parse_args(argv)
     print(markdown_table(results_rows()), end="")
     return 0
 

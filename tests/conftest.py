@@ -42,3 +42,27 @@ def run(liggghts_binary, tmp_path):
 
 def has_mpirun():
     return shutil.which("mpirun") is not None
+
+
+# ---- the fast tier: tools/test.sh --fast ---------------------------------
+
+def pytest_addoption(parser):
+    parser.addoption("--fast", action="store_true",
+                     help="only the tests that need no LIGGGHTS binary (no `engine` mark, no liggghts_binary)")
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "engine: runs the built LIGGGHTS (tools/test.sh --fast leaves it out)")
+
+
+def needs_engine(item):
+    return item.get_closest_marker("engine") is not None or "liggghts_binary" in getattr(item, "fixturenames", ())
+
+
+def pytest_collection_modifyitems(config, items):
+    if not config.getoption("--fast"):
+        return
+    engine = [item for item in items if needs_engine(item)]
+    if engine:
+        config.hook.pytest_deselected(items=engine)
+        items[:] = [item for item in items if not needs_engine(item)]

@@ -26,6 +26,8 @@ from conftest import LiggghtsError, has_mpirun, run_liggghts
 from test_jiang_errors import deck as jiang_deck
 from test_spherocylinder import rod_contacts, rod_system
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 ROD_DECK = """{head}
 {system}
 {contacts}

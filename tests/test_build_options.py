@@ -68,6 +68,7 @@ def test_the_profile_step_stops_on_an_empty_training(tmp_path):
     assert result.returncode != 0 and "wrote no profile" in result.stderr
 
 
+@pytest.mark.engine
 def test_the_built_binary_is_not_the_instrumented_one():
     """An instrumented liggghts would write .gcda files wherever it runs."""
     if not LIGGGHTS.exists():

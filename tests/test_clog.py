@@ -215,6 +215,7 @@ def check_records(workdir, time=0.001, avalanche=0):
     return clogs, arches, table
 
 
+@pytest.mark.engine
 def test_frozen_arch_with_a_defect_is_found_exactly(run, tmp_path):
     output = run(clog_deck())
     check_records(tmp_path)
@@ -223,6 +224,7 @@ def test_frozen_arch_with_a_defect_is_found_exactly(run, tmp_path):
     assert "steps run: 100" in output
 
 
+@pytest.mark.engine
 @pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
 def test_frozen_arch_same_records_on_two_ranks(run, tmp_path):
     """The processor boundary x = 0 cuts the arch between members 2 and 3."""
@@ -238,6 +240,7 @@ def read_final_positions(path):
     return {int(i): (x, y, z) for i, x, y, z in zip(frame["id"], frame["x"], frame["y"], frame["z"])}
 
 
+@pytest.mark.engine
 def test_break_moves_the_arch_to_the_top_and_goes_on(run, tmp_path):
     """action break: the three members re-enter in the injection region
     without overlap; what is left over the outlet (the feet and the top
@@ -310,6 +313,7 @@ def expected_clog_step():
                 if (step - noticed) * DT >= QUIET * (1 - 1e-9)), noticed
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("pieces", [
     (6, 14),                     # restart at step 300: before the grain leaves (step 450)
     (10, 10),                    # at 500: after fix clog saw it leave (460), before the clog (570)
@@ -361,6 +365,7 @@ def test_a_restarted_run_finds_the_same_clog_at_the_same_time(run, tmp_path, pie
     assert since_moved[550] == pytest.approx((550 - noticed) * DT)
 
 
+@pytest.mark.engine
 def test_an_arch_broken_on_the_restart_step_re_enters_after_the_restart(run, tmp_path):
     """With `action break`, the arch found at step 570 is broken by asking
     fix reinject to move its grains to the top on step 571. A run cut by
@@ -394,6 +399,7 @@ def test_an_arch_broken_on_the_restart_step_re_enters_after_the_restart(run, tmp
     assert read_table(tmp_path / "whole" / "clogs.txt")["clog"].tolist() == [1, 2]
 
 
+@pytest.mark.engine
 def test_a_run_resumed_from_an_older_restart_records_each_clog_once(run, tmp_path):
     """The first piece writes its restart file at step 500 (before the clog
     at 570), runs on through the clog and stops, as a run cut by a time
@@ -418,6 +424,7 @@ FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom
             "every 10 quiet_time 0.001 action stop")
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("old, new, message", [
     ("action stop", "action stop bogus 1", "unknown keyword 'bogus'"),
     ("action stop", "action stop every", "keyword 'every' needs a value"),
@@ -449,6 +456,7 @@ def test_bad_input_is_a_clear_error(run, old, new, message):
     assert message in error.value.message
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("change, message", [
     (("fix gravity all gravity 9.81 vector 0 0 -1", "fix gravity all gravity 9.81 vector 0 0 1"),
      "gravity must point down the vertical axis of fix reinject"),

@@ -208,6 +208,7 @@ def interior_grid(kernel):
 LATTICE_RIPPLE = 1e-3
 
 
+@pytest.mark.engine
 def test_uniform_lattice_gives_its_packing_fraction(rotating_lattice):
     particles = rotating_lattice
     assert len(particles.masses) == 5933          # lattice points in the cylinder, as LIGGGHTS made them
@@ -222,6 +223,7 @@ def test_uniform_lattice_gives_its_packing_fraction(rotating_lattice):
     assert np.allclose(raw["density"] / RHO, by_hand, rtol=LATTICE_RIPPLE, atol=0)
 
 
+@pytest.mark.engine
 def test_rigid_rotation_gives_v_theta_omega_r(rotating_lattice):
     kernel = cg.GaussianKernel(LATTICE)
     grid = interior_grid(kernel)
@@ -242,6 +244,7 @@ def test_rigid_rotation_gives_v_theta_omega_r(rotating_lattice):
     assert np.allclose(fields["kinetic_pressure"], expected, rtol=2 * LATTICE_RIPPLE, atol=0)
 
 
+@pytest.mark.engine
 def test_paper_width_on_a_lattice_ripples_as_its_fourier_estimate(rotating_lattice):
     # with w = a/2 (the paper's w = d*/2 on a crystal of touching grains) the
     # lattice shows through: the first reciprocal shell (|G| = 2 pi/a, six

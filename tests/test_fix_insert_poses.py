@@ -16,6 +16,8 @@ from analysis.deck_blocks import granular_setup, hooke_materials
 from analysis.lammps_io import read_dump
 from conftest import LiggghtsError, has_mpirun
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 # three spheres of 3 mm radius along the template's x axis, 7 mm apart
 OFFSETS = (-0.007, 0.0, 0.007)
 RADIUS = 0.003

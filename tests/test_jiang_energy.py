@@ -52,6 +52,8 @@ import pytest
 from analysis.lammps_io import read_dump
 from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 KN = 1.0e5
 KT = 2.0 / 7.0 * KN
 MU = 0.5

@@ -84,6 +84,7 @@ WHERE = ["pair", "wall"]
 
 # ------------------------------------------------------ positive controls
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 @pytest.mark.parametrize("settings, properties", [
     ("", per_pair("rollingContactLength", CONTACT_LENGTH)),
@@ -105,6 +106,7 @@ def test_good_input_runs(tmp_path, where, settings, properties):
 
 # ---------------------------------------------------- rollingContactLength
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_missing_contact_length(tmp_path, where):
     # fixed mode (the default) needs the property; LIGGGHTS' registry names it
@@ -113,6 +115,7 @@ def test_missing_contact_length(tmp_path, where):
     assert "rolling_friction jiang" in message
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_contact_length_negative(tmp_path, where):
     # 0 is allowed (no rolling resistance for that pair; test_jiang_statics_rolling)
@@ -121,6 +124,7 @@ def test_contact_length_negative(tmp_path, where):
     assert "types 1 1" in message
 
 
+@pytest.mark.engine
 def test_contact_length_negative_names_the_type_pair(tmp_path):
     # two types, only the 1-2 entries are negative: the check covers every pair
     properties = "fix m_lc all property/global rollingContactLength peratomtypepair 2 1e-3 -1e-3 -1e-3 1e-3\n"
@@ -139,6 +143,7 @@ def test_contact_length_negative_names_the_type_pair(tmp_path):
 LARGE = 2 * RADIUS * 1.1
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_contact_length_larger_than_diameter(tmp_path, where):
     message = refused(tmp_path, deck(where, properties=per_pair("rollingContactLength", LARGE)))
@@ -146,6 +151,7 @@ def test_contact_length_larger_than_diameter(tmp_path, where):
     assert "larger than the diameter 0.01" in message
 
 
+@pytest.mark.engine
 def test_contact_length_larger_than_smaller_diameter(tmp_path):
     # polydisperse pair d = 0.01 and 0.02: l_c = 0.015 fits the larger grain
     # but not the smaller one, which is what counts
@@ -156,6 +162,7 @@ def test_contact_length_larger_than_smaller_diameter(tmp_path):
     assert "larger than the diameter 0.01" in message
 
 
+@pytest.mark.engine
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
 def test_contact_length_larger_than_diameter_two_ranks(tmp_path):
     # the two grains sit on different ranks; error->one on one rank must
@@ -166,6 +173,7 @@ def test_contact_length_larger_than_diameter_two_ranks(tmp_path):
     assert "larger than the diameter" in message
 
 
+@pytest.mark.engine
 def test_contact_length_too_large_message_in_batch_output(tmp_path):
     with pytest.raises(LiggghtsError) as caught:
         run_deck(deck("pair", properties=per_pair("rollingContactLength", LARGE)), tmp_path)
@@ -178,6 +186,7 @@ def test_contact_length_too_large_message_in_batch_output(tmp_path):
 
 # ------------------------------------------------------ the two factors
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 @pytest.mark.parametrize("keyword", ["rollingStiffnessFactor", "rollingFrictionFactor"])
 @pytest.mark.parametrize("value", ["0", "-1", "abc"])
@@ -189,6 +198,7 @@ def test_factor_not_positive(tmp_path, where, keyword, value):
 
 # ------------------------------------------------------ on/off keywords
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 @pytest.mark.parametrize("keyword", ["contactLengthFromOverlap", "contactLengthFromDepth", "rollingDamping"])
 def test_on_off_unknown_value(tmp_path, where, keyword):
@@ -197,6 +207,7 @@ def test_on_off_unknown_value(tmp_path, where, keyword):
     assert "'maybe'" in message
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_overlap_and_depth_exclude_each_other(tmp_path, where):
     message = refused(tmp_path, deck(where, "contactLengthFromOverlap on contactLengthFromDepth on",
@@ -204,6 +215,7 @@ def test_overlap_and_depth_exclude_each_other(tmp_path, where):
     assert "contactLengthFromOverlap and contactLengthFromDepth exclude each other" in message
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_unknown_keyword(tmp_path, where):
     message = refused(tmp_path, deck(where, "rollingStiffness 2"))
@@ -211,6 +223,7 @@ def test_unknown_keyword(tmp_path, where):
     assert "'rollingStiffness'" in message
 
 
+@pytest.mark.engine
 def test_wall_keywords_before_wall_arguments_are_refused(tmp_path):
     text = deck("wall").replace(f"{JIANG} primitive",
                                 f"{JIANG} contactLengthFromOverlap on primitive")
@@ -236,6 +249,7 @@ def test_wall_keyword_without_value(tmp_path, keyword):
 
 # --------------------------------------------------- rollingDamping on
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_damping_without_coefficient(tmp_path, where):
     message = refused(tmp_path, deck(where, "rollingDamping on"))
@@ -243,6 +257,7 @@ def test_damping_without_coefficient(tmp_path, where):
     assert "rolling_friction jiang" in message
 
 
+@pytest.mark.engine
 @pytest.mark.parametrize("where", WHERE)
 def test_overlap_mode_needs_no_contact_length(tmp_path, where):
     # the other side of test_missing_contact_length: with l_c from the

@@ -16,6 +16,8 @@ from analysis.deck_blocks import per_pair
 from conftest import has_mpirun, run_liggghts
 from test_jiang_errors import deck
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 WARNING = "keeps the fixed l_c of rollingContactLength"
 # type pair 1-2 fixed, 1-1 and 2-2 from the contact
 MIXED = "fix m_lc all property/global rollingContactLength peratomtypepair 2 0.0 5e-4 5e-4 0.0\n"

@@ -13,6 +13,8 @@ import pytest
 from analysis.lammps_io import read_dump
 from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 RADIUS = 0.005
 DISTANCE = 0.0099            # overlap 1e-4 m
 KN = 1.0e5

@@ -94,6 +94,8 @@ from analysis.lammps_io import read_dump
 from conftest import has_mpirun
 from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 RADIUS = 0.005
 DIAMETER = 2 * RADIUS
 KN = 1.0e5

@@ -64,6 +64,8 @@ import pytest
 from analysis.lammps_io import read_dump
 from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 G = 9.81
 DENSITY = 2500.0
 

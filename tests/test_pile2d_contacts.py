@@ -30,6 +30,8 @@ import pytest
 
 from analysis.lammps_io import read_dump
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 ROOT = Path(__file__).resolve().parent.parent
 DIAMETER = 1.0
 RADIUS = 0.5

@@ -17,6 +17,8 @@ from analysis.pile2d import read_discharges
 from analysis.pile2d_driver import prime_seeds
 from conftest import has_mpirun, run_liggghts
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 ROOT = Path(__file__).resolve().parent.parent
 INPUTS = ROOT / "inputs"
 L = 20.0

@@ -19,6 +19,9 @@ import pytest
 from analysis.testing import LiggghtsError, read_frame, read_record, run_deck
 from conftest import LIGGGHTS, ROOT, has_mpirun
 
+# builds and runs LIGGGHTS (tools/test.sh --fast leaves it out)
+pytestmark = pytest.mark.engine
+
 EXAMPLE = ROOT / "examples" / "extend"
 DECK = EXAMPLE / "in.crossings"
 TREE = ROOT / "build" / "extend-test"

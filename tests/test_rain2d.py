@@ -18,6 +18,8 @@ from analysis.deck_blocks import granular_setup, hooke_materials
 from analysis.lammps_io import read_dump, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 D = 1.0
 POLY = 0.05
 D_MAX = D * (1 + POLY)

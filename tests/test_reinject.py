@@ -18,6 +18,8 @@ from analysis.deck_blocks import granular_setup, hooke_materials
 from analysis.lammps_io import read_dump, read_table, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 DIAMETER = 0.01
 DENSITY = 2500.0
 DT = 1.0e-4

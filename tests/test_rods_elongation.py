@@ -9,6 +9,9 @@ import subprocess
 
 from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT
+import pytest
+
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 
 DRIVER = ROOT / "examples" / "silo3d_rotating" / "rods_elongation.sh"
 

@@ -71,6 +71,7 @@ def check_records(workdir):
     return clogs, arches, contacts
 
 
+@pytest.mark.engine
 def test_quick_deck_clogs_three_times(tmp_path):
     output = run_quick_deck(tmp_path)
     clogs, arches, contacts = check_records(tmp_path)
@@ -96,6 +97,7 @@ def test_quick_deck_clogs_three_times(tmp_path):
     assert len(list((tmp_path / "analysis").glob("*.png"))) == 7
 
 
+@pytest.mark.engine
 @pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
 def test_quick_deck_on_two_ranks(tmp_path):
     """Two ranks: the flow differs (chaotic), the records must hold together."""
@@ -104,6 +106,7 @@ def test_quick_deck_on_two_ranks(tmp_path):
     assert (clogs["status"] == 1).sum() >= 2
 
 
+@pytest.mark.engine
 def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
     """-var stop_at_first 1: the deck stops at its first clog and dumps the
     grains; the silo stands still, so the arch members in the dump are where
@@ -134,6 +137,7 @@ def test_picture_force_segments_join_known_grains():
     assert list(window_mask(np.array([-2.0, 0.5, 3.0]), np.array([1.0, 4.0, 1.0]), 2.0, 3.0)) == [True, False, False]
 
 
+@pytest.mark.engine
 def test_a_clog_the_deck_calls_at_rest_stays_at_rest(tmp_path):
     """The silo the deck declares clogged (Ec/Ep < 1e-4 after 0.2 s without
     an exit) is run on for 1 s (1e5 steps): no grain leaves, the arch and

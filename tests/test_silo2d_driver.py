@@ -69,6 +69,7 @@ def cut_in_a_segment(out, binary):
             process.wait()
 
 
+@pytest.mark.engine
 def test_a_cut_campaign_resumed_records_what_an_uncut_one_does(liggghts_binary, tmp_path):
     uncut = run_driver(tmp_path / "uncut", liggghts_binary)
     assert uncut.returncode == 0, uncut.stdout + uncut.stderr
@@ -103,6 +104,7 @@ def test_a_cut_campaign_resumed_records_what_an_uncut_one_does(liggghts_binary, 
            [f"state{k}.restart" for k in (len(uncut_segments) - 1, len(uncut_segments))]
 
 
+@pytest.mark.engine
 def test_a_campaign_refuses_other_parameters(liggghts_binary, tmp_path):
     """parameters.txt is written before the first segment; calling again
     with another time step would mix two set-ups in one record."""

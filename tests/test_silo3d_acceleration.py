@@ -165,6 +165,7 @@ def test_cli_refuses_a_window_it_cannot_read(tmp_path, text):
         acc.main([text, "--out", str(tmp_path)])
 
 
+@pytest.mark.engine
 def test_rods_falling_from_the_deck_s_lattice_accelerate_at_g(run, tmp_path):
     """The quick rod deck opens at 0.05 s, before its lattice column of
     300 rods (spacing 1.05 L: no two touch) lands; dumps every 0.05 s for

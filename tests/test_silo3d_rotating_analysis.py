@@ -57,6 +57,7 @@ run {steps}
 """
 
 
+@pytest.mark.engine
 def test_pair_gran_local_force_is_on_the_first_grain(run, tmp_path):
     run(chain_deck())
     (_, columns), = list(iter_dump(tmp_path / "dump.contacts"))
@@ -74,6 +75,7 @@ def test_pair_gran_local_force_is_on_the_first_grain(run, tmp_path):
     assert np.allclose(named["x1"], [x_of_id[int(i)] for i in named["id1"]])
 
 
+@pytest.mark.engine
 def test_contacts_from_liggghts_give_the_chain_virial(run, tmp_path):
     # by hand: two contacts, each f (x) r = (1 N)(9 mm) e_x e_x, compressive
     run(chain_deck())
@@ -88,6 +90,7 @@ def test_contacts_from_liggghts_give_the_chain_virial(run, tmp_path):
     assert np.trace(stress) / 3 > 0
 
 
+@pytest.mark.engine
 def test_iter_dump_streams_frames_and_skips_unwanted(run, tmp_path):
     """lammps_io.iter_dump (read_dump is its list) on real LIGGGHTS output:
     every frame with its step and all rows, and the `wanted` filter."""
@@ -597,6 +600,7 @@ def test_a_frame_written_twice_is_read_once(tmp_path):
     assert read == [(20, 20.0, None), (30, 30.0, None)]
 
 
+@pytest.mark.engine
 def test_the_rods_axes_of_the_deck_s_dump_are_read_as_orientations(run, tmp_path):
     """dump.cg of the deck with rods has c_rod_axis[1-3] (compute
     spherocylinder/axis): two rods set along given axes come back as

@@ -22,6 +22,8 @@ from analysis.deck_blocks import hooke_materials
 from analysis.lammps_io import read_dump
 from conftest import LiggghtsError, has_mpirun, run_liggghts
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 D = 0.01
 LENGTH = 0.03
 RHO = 1000.0

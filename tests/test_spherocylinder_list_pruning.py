@@ -12,6 +12,9 @@ import numpy as np
 from analysis.lammps_io import read_dump
 from conftest import run_liggghts
 from test_spherocylinder import D, HALF_SEGMENT, LENGTH, SKIN, gas_deck, rod_contacts, rod_deck, rod_system
+import pytest
+
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 PRUNING_VECTOR = """variable listed equal f_move[1]
 variable kept equal f_move[2]
 variable asked equal f_move[3]"""

@@ -13,6 +13,8 @@ import pytest
 from conftest import LiggghtsError, has_mpirun, run_liggghts
 from test_spherocylinder import rod_deck
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 ROD = [((0, 0, 0), (1, 0, 0), (0, 0, 0), (0, 0, 0))]
 NOT_KNOWN = "is not known to take rods: where it reads the radius, it gets the bounding sphere's (L/2)"
 

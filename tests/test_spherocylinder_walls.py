@@ -19,6 +19,8 @@ from analysis.lammps_io import read_dump
 from conftest import has_mpirun, run_liggghts
 from test_spherocylinder import D, KN, RADIUS, ROD_MODEL, rod_contacts, rod_lines, rod_system, solid_rod
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 G = 9.81
 WALL_MODEL = ROD_MODEL
 COLUMNS = ("id x y z vx vy vz omegax omegay omegaz angmomx angmomy angmomz fx fy fz "

@@ -38,6 +38,8 @@ from analysis.lammps_io import read_dump
 from analysis.stl import annulus_triangles, write_stl
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 DEBIAN_LIGGGHTS = Path("/usr/bin/liggghts")
 VTK_DUMP_STYLES = {"atom/vtk", "custom/vtk", "custom/vtm", "local/gran/vtk",
                    "mesh/gran/VTK", "mesh/vtk", "mesh/vtm"}

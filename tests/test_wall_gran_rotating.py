@@ -34,6 +34,8 @@ from analysis.lammps_io import read_dump, read_table
 from analysis.stl import annulus_triangles, write_stl
 from conftest import LiggghtsError, has_mpirun, run_liggghts
 
+pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
+
 RADIUS = 0.005
 DENSITY = 2500.0
 G = 9.81

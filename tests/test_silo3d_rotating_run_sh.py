@@ -8,6 +8,7 @@ test_silo3d_rotating_checkpoint.py.)
 """
 
 import os
+import re
 import subprocess
 
 import numpy as np
@@ -135,6 +136,28 @@ def test_bad_per_frequency_settings_and_packings_are_refused(tmp_path, environme
     result = campaign(tmp_path / "runs", SHAPE="rod", FS="0 0.32", **environment)
     assert result.returncode == 2 and message in result.stderr, result.stderr
     assert not (tmp_path / "runs").exists()
+
+
+
+def test_help_documents_every_environment_variable_with_an_example():
+    """run.sh --help prints its header comment (one place for its options)
+    and exits 0 without running anything; every environment variable the
+    script reads (`${NAME:-default}` or `${NAME-default}`) has its entry
+    there, and the text shows an example command."""
+    result = subprocess.run(["bash", str(RUN_SH), "--help"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0 and result.stderr == ""
+    text = RUN_SH.read_text()
+    header = []
+    for line in text.splitlines()[1:]:
+        if not line.startswith("#"):
+            break
+        header.append(line[2:] if line.startswith("# ") else line[1:])
+    assert result.stdout == "\n".join(header) + "\n"
+    read = set(re.findall(r"\$\{([A-Z][A-Z0-9_]*):?-", text))
+    assert {"DS", "FS", "DECK_VARS", "SILOKIT_LIGGGHTS", "PEER_OF"} <= read and len(read) >= 23
+    missing = [name for name in sorted(read) if not re.search(rf"^  {name}\s", result.stdout, re.M)]
+    assert not missing, f"not in run.sh --help: {missing}"
+    assert "Example" in result.stdout and "bash examples/silo3d_rotating/run.sh /tmp/" in result.stdout
 
 
 RODS_FIG2C = ROOT / "examples" / "silo3d_rotating" / "rods_fig2c.sh"

@@ -5,17 +5,19 @@
 # of others in RUN_DIR) into RUN_DIR/analysis: Q(f, D) tables, Beverloo
 # and exponential fits, plots, coarse-grained fields.
 #
-#   bash examples/silo3d_rotating/run.sh [RUN_DIR]
+#   bash examples/silo3d_rotating/run.sh [RUN_DIR]   (default: examples/silo3d_rotating/runs)
+#   bash examples/silo3d_rotating/run.sh --help      prints this text
 #
 # Every run starts from one settled packing per seed (made once, then
 # reused); the flow is kept stationary by reinjecting the grains at the top.
 # Resumable: a run whose directory holds `finished` is not run again, and
 # an interrupted discharge goes on from its last checkpoint (a restart file
 # every CHECKPOINT s of discharge; analysis.checkpoint cuts its records back
-# to it), so that a session's end loses at most CHECKPOINT s of each run.
+# to it), so that an interruption loses at most CHECKPOINT s of each run.
 # An unfinished run can be made longer: the same command with a larger
 # DISCHARGE resumes it and runs it to the new end (its run.txt then ends
 # with the new discharge_time); a finished one has no checkpoint left.
+#
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
 #   FS       rotation frequencies in Hz      ["0 0.16 0.32 0.64 0.96 1.28"]
@@ -42,7 +44,8 @@
 #   ASPECT   rods and clumps: L/d (the paper's 2.5, 3.3, 4.0) [3.3]
 #   REINJECT 1: discharged grains re-enter at the top; 0: they leave
 #            (clumps: always 0, and no dumps: FIELDS is ignored)  [1]
-#   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900" [""]
+#   DECK_VARS    more deck variables, "name value" pairs, e.g. "quick 1 N 900"
+#            (the deck's parameters: inputs/silo3d_rotating/in.silo3d_rotating) [""]
 #   CHECKPOINT   s of discharge between checkpoints, 0: none      [0.25]
 #   SETTLE_CHECKPOINT  s of settling between checkpoints, 0: none   [0]
 #            (a settling cut short then goes on from its last one; a
@@ -56,6 +59,21 @@
 #   RELAX    s the clumps relax at the rods' poses                 [0.1]
 #   ANALYSE  0: no analysis after the runs (a driver that runs a part
 #            of a campaign analyses the whole itself)                [1]
+#   SILOKIT_LIGGGHTS  the LIGGGHTS binary            [build/bin/liggghts]
+#   SILOKIT_INPUTS    the inputs/ directory whose decks are run [inputs]
+#            (a long campaign runs frozen copies of the binary and the
+#            decks: LIGGGHTS reads a deck as it runs)
+#   PYTHON   the Python that runs the analysis (with numpy) [/usr/bin/python3]
+#
+# Example: the quick silo (900 spheres, orifice 5 cm) at rest and at
+# 0.32 Hz, 0.6 s of discharge each, into /tmp/silo3d_quick (a few minutes):
+#   DS=0.05 FS="0 0.32" DISCHARGE=0.6 TRANSIENT=0.2 FIELDS="" DECK_VARS="quick 1" \
+#       bash examples/silo3d_rotating/run.sh /tmp/silo3d_quick
+
+# --help: the comment block above, without its "# "
+case "${1:-}" in
+  -h|--help) awk 'NR > 1 { if (!/^#/) exit; sub(/^# ?/, ""); print }' "$0"; exit 0 ;;
+esac
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"

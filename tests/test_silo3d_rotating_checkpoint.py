@@ -243,6 +243,7 @@ def signal_processes(session, name, signum):
     return hit
 
 
+@pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS
 @pytest.mark.parametrize("stop", ["kill run.sh", "SIGTERM to LIGGGHTS"])
 def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, stop):
     # "kill run.sh": SIGKILL to the whole campaign (a session's end);
@@ -295,6 +296,7 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     assert (run_dir / "screen.txt").read_text().count("silo3d_rotating: done at") == 1
 
 
+@pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS
 def test_run_sh_killed_while_settling_goes_on_from_the_settling_s_checkpoint(tmp_path):
     """SETTLE_CHECKPOINT: run.sh making the quick rods' packing (0.7 s of
     settling, a checkpoint every 0.1 s), killed once the settling has a

@@ -29,6 +29,7 @@ def campaign(run_dir, **environment):
                           text=True, timeout=900)
 
 
+@pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS
 def test_peer_of_places_a_clump_on_every_rod_of_the_rods_packing(tmp_path):
     # FS="": only the packing (the defaults are for an unset FS)
     settled = campaign(tmp_path / "rods", SHAPE="rod", FS="", DECK_VARS="quick 1 settle_time 0.5")
@@ -74,6 +75,7 @@ def kept_quick_packing(tmp_path):
     return packing, kept
 
 
+@pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS
 def test_kept_packings_and_a_discharge_and_window_per_frequency(tmp_path):
     """PACKINGS: a seed whose packing is kept (xz, with its settling's
     run.txt) is unpacked, not settled, byte for byte; DISCHARGE_AT and
@@ -163,6 +165,7 @@ def test_help_documents_every_environment_variable_with_an_example():
 RODS_FIG2C = ROOT / "examples" / "silo3d_rotating" / "rods_fig2c.sh"
 
 
+@pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS
 def test_the_fig2c_driver_carries_a_finished_run_to_the_next_machine_and_analyses_each_window(tmp_path):
     """examples/silo3d_rotating/rods_fig2c.sh on a quick silo with a protocol
     of two frequencies: the first machine runs one of them and keeps it in

@@ -77,6 +77,8 @@ esac
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 RUN_DIR="${1:-$ROOT/examples/silo3d_rotating/runs}"
+# absolute: each run works in its own folder, and reads the packing by path
+RUN_DIR="$(realpath -m "$RUN_DIR")"
 # (DS, FS and FIELDS set but empty mean none, not the defaults: FS="" only
 # settles the packings)
 DS="${DS-0.042 0.06}"

@@ -101,6 +101,20 @@ def pack_screen(run_dir, target_dir):
             shutil.copyfileobj(source, packed)
 
 
+def carry_checkpoint(run, carried, cylinders=None):
+    """Writes run's last checkpoint and its records up to it into `carried`
+    (analysis.checkpoint.keep) through a .part folder, so that a carry cut
+    short leaves the one before whole; returns the checkpoint's step."""
+    partial = carried.with_name(carried.name + ".part")
+    shutil.rmtree(partial, ignore_errors=True)
+    partial.parent.mkdir(parents=True, exist_ok=True)
+    step = checkpoint.keep(run, partial, cylinders)
+    pack_screen(run, partial)
+    shutil.rmtree(carried, ignore_errors=True)
+    partial.rename(carried)
+    return step
+
+
 def drop_carried(carried):
     """Removes a finished run's carried checkpoint, and the campaign's carry
     directory once it holds nothing."""
@@ -144,13 +158,7 @@ def keep(run_dir, store, more=(), analysis=None, carry=None):
         if checkpoint.last_checkpoint(run) is None:
             lines.append(f"{run.name}: no checkpoint yet, nothing carried")
             continue
-        partial = carried.with_name(carried.name + ".part")
-        shutil.rmtree(partial, ignore_errors=True)
-        partial.parent.mkdir(parents=True, exist_ok=True)
-        step = checkpoint.keep(run, partial, cylinders)
-        pack_screen(run, partial)
-        shutil.rmtree(carried, ignore_errors=True)
-        partial.rename(carried)
+        step = carry_checkpoint(run, carried, cylinders)
         info = read_run_info(run, required=("dt", "t_open", "step_open"))
         t = (step - info["step_open"]) * info["dt"]
         lines.append(f"{run.name}: unfinished, kept at its checkpoint of step {step} ({t:.2f} s of discharge) "
@@ -166,7 +174,7 @@ def keep_packings(run_dir, carry):
     carry, lines = Path(carry), []
     for packing in packing_dirs(run_dir):
         seed = packing.name[len("packing_s"):]
-        settling = carry / f"settling_{packing.name[len('packing_'):]}"
+        settling = carry / f"settling_s{seed}"
         if (packing / "finished").exists() and (packing / "packing.restart").exists():
             kept = carry / PACKINGS / f"packing_s{seed}.restart.xz"
             if not kept.exists():
@@ -184,13 +192,7 @@ def keep_packings(run_dir, carry):
         if checkpoint.last_checkpoint(packing) is None:
             lines.append(f"{packing.name}: settling, no checkpoint yet, nothing carried")
             continue
-        partial = settling.with_name(settling.name + ".part")
-        shutil.rmtree(partial, ignore_errors=True)
-        partial.parent.mkdir(parents=True, exist_ok=True)
-        step = checkpoint.keep(packing, partial)
-        pack_screen(packing, partial)
-        shutil.rmtree(settling, ignore_errors=True)
-        partial.rename(settling)
+        step = carry_checkpoint(packing, settling)
         lines.append(f"{packing.name}: settling, kept at its checkpoint of step {step} in {settling}")
     return lines
 

@@ -148,14 +148,18 @@ def overlap_mode_spring(overlap):
     return KN * contact_length ** 2, MU * contact_length * KN * overlap, contact_length
 
 
+def spring_by_hand(mode, overlap):
+    """(k_r, mu_r f_el, l_c) by hand, l_c from the overlap's chord or its depth."""
+    if mode == "overlap":
+        return overlap_mode_spring(overlap)
+    contact_length = overlap
+    return KN * contact_length ** 2, MU * contact_length * KN * overlap, contact_length
+
+
 @pytest.mark.parametrize("mode", ["overlap", "depth"])
 def test_elastic_branch_is_minus_k_r_delta_r(driver, mode):
     overlap = 0.02
-    if mode == "overlap":
-        stiffness, limit, contact_length = overlap_mode_spring(overlap)
-    else:
-        contact_length = overlap
-        stiffness, limit = KN * overlap ** 2, MU * overlap * KN * overlap
+    stiffness, limit, contact_length = spring_by_hand(mode, overlap)
     delta_r = 0.5 * limit / stiffness              # half way to the cap
     _, reply = driver(spring_command(overlap, contact_length), f"roll {delta_r!r} 0 0")
     torque, rolls, angle = roll(reply)
@@ -167,11 +171,7 @@ def test_elastic_branch_is_minus_k_r_delta_r(driver, mode):
 @pytest.mark.parametrize("mode", ["overlap", "depth"])
 def test_plastic_branch_is_capped_at_mu_r_f_el(driver, mode):
     overlap = 0.02
-    if mode == "overlap":
-        stiffness, limit, contact_length = overlap_mode_spring(overlap)
-    else:
-        contact_length = overlap
-        stiffness, limit = KN * overlap ** 2, MU * overlap * KN * overlap
+    stiffness, limit, contact_length = spring_by_hand(mode, overlap)
     delta_r = 3.0 * limit / stiffness              # three times past the cap
     _, reply = driver(spring_command(overlap, contact_length), f"roll 0 {-delta_r!r} 0")
     torque, rolls, angle = roll(reply)

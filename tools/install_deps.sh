@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what silokit needs on Debian 12 (as root): compilers, cmake, ccache,
 # Open MPI, VTK (LIGGGHTS' ParaView dump styles, doc/vtk_output.md), Debian's
-# liggghts (the reference binary), Python with numpy, scipy, matplotlib,
+# liggghts (the reference binary) and liggghts-doc (its tutorials, which
+# bench/stock_tutorials.py runs), Python with numpy, scipy, matplotlib,
 # pytest and VTK's bindings (the tests read the frames back with them),
 # setuptools and venv (pip install -e . of pyproject.toml, offline), and a
 # deb-src entry so that `apt-get source liggghts` works. Does nothing when
@@ -9,7 +10,7 @@
 set -euo pipefail
 
 packages=(build-essential cmake ccache patch xz-utils dpkg-dev
-          openmpi-bin libopenmpi-dev libvtk9-dev liggghts
+          openmpi-bin libopenmpi-dev libvtk9-dev liggghts liggghts-doc
           python3 python3-numpy python3-scipy python3-matplotlib python3-pytest python3-vtk9
           python3-setuptools python3-venv)
 

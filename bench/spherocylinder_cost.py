@@ -134,7 +134,7 @@ class Grains:
         self.dt = self.rod_tc_min / DT_FRACTION
 
     def contact_times(self):
-        """(shape, configuration, t_c) as in doc/spherocylinder.md, "Time step":
+        """(shape, configuration, t_c) as in doc/fix_nve_spherocylinder.md, "Time step":
         a contact at the end of the core, normal to the axis, counts the rod
         with 1/m + s^2/I_t in 1/m_eff (s = (L - d)/2)."""
         m, s = self.rod_mass, (LENGTH - self.rod_d) / 2

@@ -89,7 +89,7 @@ void AtomVecSpherocylinder::init()
 }
 
 /* ----------------------------------------------------------------------
-   The rule for rods (doc/spherocylinder.md, "Which styles take rods"). To
+   The rule for rods (doc/atom_style_spherocylinder.md, "Which styles take rods"). To
    a stock style a rod is its bounding sphere (radius L/2), so:
    - the styles that know rods, and stock ones that never read the radius,
      are listed below, and run;

@@ -26,7 +26,7 @@
    an integrator that has each rod's centre and axis before and after its
    move at hand, start_moves, add_move per rod and build_needed, which
    spares computing them again), and prune_after_build in pre_force.
-   Documentation: doc/spherocylinder.md, "Neighbour list".
+   Documentation: doc/fix_nve_spherocylinder.md, "Neighbour list".
 ------------------------------------------------------------------------- */
 
 #ifndef SILOKIT_SPHEROCYLINDER_LIST_PRUNING_H

@@ -141,7 +141,8 @@ def test_a_rod_on_a_turning_plate_is_dragged_into_co_rotation(tmp_path):
     to the contact plane by truncation") does not turn the stored spring
     with the two bodies about the contact normal, so a contact stuck on a
     turning plate cannot keep pointing its force at the axis, and the rod
-    creeps outwards (doc/spherocylinder.md, "Walls")."""
+    creeps outwards (doc/fix_wall_gran_spherocylinder.md, "A rod stuck on
+    the turning plate creeps outwards")."""
     omega, r0 = 2 * math.pi * 0.5, 0.05
     plate = (f"fix bottom all wall/gran/rotating {WALL_MODEL} primitive type 1 zplane 0.0 "
              f"orifice 0.0 omega {omega!r}")

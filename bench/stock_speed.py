@@ -216,6 +216,15 @@ def parse_binaries(specs):
     return binaries
 
 
+
+def existing_binaries(specs):
+    """parse_binaries, stopping with a message when one of them is missing."""
+    binaries = parse_binaries(specs)
+    for name, binary in binaries.items():
+        if not binary.exists():
+            sys.exit(f"{binary} ({name}) is missing")
+    return binaries
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -236,10 +245,7 @@ def main():
         benchlib.use_smoke_outputs()
         args.volume_fraction, args.repetitions, args.steps = 0.05, 2, 3000
 
-    binaries = parse_binaries(args.binary)
-    for name, binary in binaries.items():
-        if not binary.exists():
-            sys.exit(f"{binary} ({name}) is missing")
+    binaries = existing_binaries(args.binary)
     names = list(binaries)
     reference = names[0]
     # the first binary is "ours" of the provenance lines (binary identity)

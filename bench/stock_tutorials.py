@@ -53,7 +53,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
-from stock_speed import DEBIAN, cell, parse_binaries  # noqa: E402
+from stock_speed import DEBIAN, cell, existing_binaries  # noqa: E402
 
 TUTORIALS = Path("/usr/share/doc/liggghts/examples/LIGGGHTS/Tutorials_public")
 WHITELIST_WARNING = "not located in any whitelist"
@@ -348,10 +348,7 @@ def main():
     if not args.tutorials.is_dir():
         sys.exit(f"{args.tutorials}: no such directory (apt-get install liggghts-doc)")
 
-    binaries = parse_binaries(args.binary)
-    for name, binary in binaries.items():
-        if not binary.exists():
-            sys.exit(f"{binary} ({name}) is missing")
+    binaries = existing_binaries(args.binary)
     names = list(binaries)
     ours = names[0]
     benchlib.OUR_BINARY = binaries[ours]

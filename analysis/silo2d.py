@@ -380,7 +380,7 @@ def arch_grains(arches, feet, reading):
 def walk_pairs(arches, feet):
     """Per clog, the arch's walk as the grain pairs it steps along: foot
     base - left foot, left foot - member 1, member k - member k+1, ...,
-    member eta - right foot, right foot - its base (src_plugin/arch_walk.h;
+    member eta - right foot, right foot - its base (src_plugin/core/arch_walk.h;
     feet.txt gives each foot's base grain). Returns {clog: {id: (pair,
     pair)}}, each grain's two walk contacts, pairs as (smaller id, larger
     id). Clogs without both feet are left out."""

@@ -32,7 +32,7 @@ combination was not specialised at build time. The table counts these
 warnings in each binary's output and names the deck's combinations that
 are missing from the binary's compiled list (style_contact_model.h of its
 build tree, build/liggghts/src/ for ours), in the GRAN_MODEL(...) spelling
-of src_plugin/style_contact_model_user.whitelist. (LIGGGHTS' warning does
+of src_plugin/liggghts/style_contact_model_user.whitelist. (LIGGGHTS' warning does
 not name the combination.)
 
 Writes doc/speed_stock_tutorials.md and bench/results/stock_tutorials.txt
@@ -469,7 +469,7 @@ def report(args, decks, names, binaries, results, failed, start_load):
     elif not missing_all:
         lines.append("None: every combination the decks use is in the compiled list.")
     else:
-        lines.append("Line to add to `src_plugin/style_contact_model_user.whitelist` to "
+        lines.append("Line to add to `src_plugin/liggghts/style_contact_model_user.whitelist` to "
                      "specialise one, and the decks that use it:")
         lines.append("")
         lines += [f"- `{gran_model(c)}`: " + ", ".join(ds) for c, ds in missing_all.items()]

@@ -1,14 +1,16 @@
-# Overlays src_plugin/ onto LIGGGHTS_BUILD_SRC and (re)generates LIGGGHTS'
-# style headers with its own Make.sh.
+# Overlays src_plugin/core/ (the host-free physics) and src_plugin/liggghts/
+# (the LIGGGHTS styles around it) onto LIGGGHTS_BUILD_SRC, flat, and
+# (re)generates LIGGGHTS' style headers with its own Make.sh.
 #
 # Each plugin file is copied with configure_file(COPYONLY), so editing one
 # re-runs this step at the next build; adding or removing one is seen through
 # the CONFIGURE_DEPENDS glob. Make.sh only rewrites a style header whose
 # content changes, so a rebuild recompiles what really depends on the edit.
 
-set(SILOKIT_PLUGIN_DIR "${CMAKE_SOURCE_DIR}/src_plugin")
+set(SILOKIT_CORE_DIR "${CMAKE_SOURCE_DIR}/src_plugin/core")
+set(SILOKIT_LIGGGHTS_DIR "${CMAKE_SOURCE_DIR}/src_plugin/liggghts")
 file(GLOB plugin_files CONFIGURE_DEPENDS
-     "${SILOKIT_PLUGIN_DIR}/*.h" "${SILOKIT_PLUGIN_DIR}/*.cpp")
+     "${SILOKIT_CORE_DIR}/*.h" "${SILOKIT_LIGGGHTS_DIR}/*.h" "${SILOKIT_LIGGGHTS_DIR}/*.cpp")
 
 # The names this overlay put into LIGGGHTS_BUILD_SRC last time (ours and
 # the user's): every other file there is stock LIGGGHTS.
@@ -19,7 +21,7 @@ if(EXISTS "${manifest}")
 endif()
 
 # SILOKIT_USER_STYLES: a user's own style directories (doc/extend.md). Their
-# *.h and *.cpp files are overlaid like src_plugin/'s, their *.whitelist
+# *.h and *.cpp files are overlaid like src_plugin/liggghts/'s, their *.whitelist
 # lines join our contact-model whitelist. A relative directory is taken
 # from the silokit source tree. A directory that does not exist, or a file
 # or style name that LIGGGHTS, silokit or another user directory already
@@ -86,7 +88,7 @@ if(user_files)
     if(owner MATCHES "^LIGGGHTS")
       set(path "${LIGGGHTS_BUILD_SRC}/${name}")
     else()
-      set(path "${SILOKIT_PLUGIN_DIR}/${name}")
+      string(REGEX REPLACE "^silokit \\((.*)\\)$" "\\1" path "${owner}")
     endif()
     silokit_declared_styles("${path}" keys)
     foreach(key IN LISTS keys)
@@ -149,8 +151,8 @@ file(WRITE "${manifest}" "${manifest_text}\n")
 # change (Make.sh reads the file, nothing compiles it).
 set(whitelist_text "")
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
-             "${SILOKIT_PLUGIN_DIR}/style_contact_model_user.whitelist" ${user_whitelists})
-foreach(path IN ITEMS "${SILOKIT_PLUGIN_DIR}/style_contact_model_user.whitelist" ${user_whitelists})
+             "${SILOKIT_LIGGGHTS_DIR}/style_contact_model_user.whitelist" ${user_whitelists})
+foreach(path IN ITEMS "${SILOKIT_LIGGGHTS_DIR}/style_contact_model_user.whitelist" ${user_whitelists})
   file(READ "${path}" text)
   string(STRIP "${text}" text)
   string(APPEND whitelist_text "${text}\n")

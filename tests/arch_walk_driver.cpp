@@ -1,4 +1,4 @@
-// Test driver for src_plugin/arch_walk.h: reads one configuration from
+// Test driver for src_plugin/core/arch_walk.h: reads one configuration from
 // stdin, prints the arch that silokit::arch::find_arch identifies.
 //
 // Input (whitespace-separated; grain indices in contacts count from 0 in

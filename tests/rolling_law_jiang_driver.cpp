@@ -1,4 +1,4 @@
-// Test driver for src_plugin/rolling_law_jiang.h: reads commands from
+// Test driver for src_plugin/core/rolling_law_jiang.h: reads commands from
 // stdin, one per line, and prints one line per command (numbers with 17
 // digits). It holds one rolling spring (stiffness, cap) and its
 // accumulated rolling angle, as a contact's history does.

@@ -1,4 +1,4 @@
-// Test driver for src_plugin/spherocylinder_geometry.h: reads commands from
+// Test driver for src_plugin/core/spherocylinder_geometry.h: reads commands from
 // stdin, one per line, and prints one line of results per command. A rod
 // is written c_x c_y c_z a_x a_y a_z h r (centre, unit axis, half-length of
 // the core segment, radius); a point or vector as its three components.

@@ -1,4 +1,4 @@
-"""The arch walk of fix clog (src_plugin/arch_walk.h) on hand-built
+"""The arch walk of fix clog (src_plugin/core/arch_walk.h) on hand-built
 configurations, through a small driver compiled here with g++.
 
 Geometry: discs of diameter 1 in the plane (horizontal, vertical); two
@@ -38,7 +38,7 @@ def arch_walk(tmp_path_factory):
     executable = tmp_path_factory.mktemp("arch_walk") / "arch_walk_driver"
     build = subprocess.run(
         ["g++", "-std=c++11", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic",
-         f"-I{ROOT / 'src_plugin'}", str(DRIVER_SOURCE), "-o", str(executable)],
+         f"-I{ROOT / 'src_plugin' / 'core'}", str(DRIVER_SOURCE), "-o", str(executable)],
         capture_output=True, text=True)
     if build.returncode != 0:
         pytest.fail(f"arch_walk_driver does not compile:\n{build.stderr}")

@@ -1,4 +1,4 @@
-"""Jiang's rolling resistance law (src_plugin/rolling_law_jiang.h) against
+"""Jiang's rolling resistance law (src_plugin/core/rolling_law_jiang.h) against
 hand values, through a small driver compiled here with g++.
 
 The law is eq. 1 of Magalhaes et al. (2014), the simplified model of
@@ -41,7 +41,7 @@ def driver(tmp_path_factory):
     executable = tmp_path_factory.mktemp("rolling_law_jiang") / "rolling_law_jiang_driver"
     build = subprocess.run(
         ["g++", "-std=c++11", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic",
-         f"-I{ROOT / 'src_plugin'}", str(DRIVER_SOURCE), "-o", str(executable)],
+         f"-I{ROOT / 'src_plugin' / 'core'}", str(DRIVER_SOURCE), "-o", str(executable)],
         capture_output=True, text=True)
     if build.returncode != 0:
         pytest.fail(f"rolling_law_jiang_driver does not compile:\n{build.stderr}")

@@ -1,4 +1,4 @@
-"""The contact geometry of spherocylinders (src_plugin/spherocylinder_geometry.h),
+"""The contact geometry of spherocylinders (src_plugin/core/spherocylinder_geometry.h),
 through a small driver compiled here with g++.
 
 A rod is its centre, unit axis, half-length h of its core segment and
@@ -155,7 +155,7 @@ def driver(tmp_path_factory):
     executable = tmp_path_factory.mktemp("spherocylinder_geometry") / "spherocylinder_geometry_driver"
     build = subprocess.run(
         ["g++", "-std=c++11", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic",
-         f"-I{ROOT / 'src_plugin'}", str(DRIVER_SOURCE), "-o", str(executable)],
+         f"-I{ROOT / 'src_plugin' / 'core'}", str(DRIVER_SOURCE), "-o", str(executable)],
         capture_output=True, text=True)
     if build.returncode != 0:
         pytest.fail(f"spherocylinder_geometry_driver does not compile:\n{build.stderr}")

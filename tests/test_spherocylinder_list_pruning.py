@@ -1,5 +1,5 @@
 """fix nve/spherocylinder's neighbour-list pruning (prune_list, default
-yes; src_plugin/spherocylinder_list_pruning.h), run by the built LIGGGHTS.
+yes; src_plugin/liggghts/spherocylinder_list_pruning.h), run by the built LIGGGHTS.
 
 After each build the pair list keeps only the pairs whose cores are closer
 than d + skin; a rod that turns asks for a build before its ends have

@@ -3,7 +3,7 @@
    GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
 
    fix clog: detects that the flow through the outlet has stopped, finds
-   the clogging arch (Hidalgo et al. 2013, section 3; src_plugin/arch_walk.h),
+   the clogging arch (Hidalgo et al. 2013, section 3; src_plugin/core/arch_walk.h),
    writes the records of doc/silo2d_records.md, then raises a flag the deck
    stops on, or breaks the arch and waits for the next clog.
    Documentation: doc/fix_clog.md.

@@ -233,6 +233,28 @@ def test_the_symmetric_top_scheme_turns_a_free_rod_exactly(tmp_path):
     assert energy_error < 1e-12
 
 
+def test_the_integrator_keywords_in_either_order_give_the_same_run(tmp_path):
+    """FixNVEAsphereBase knows only its numbered integration_scheme: the
+    fix hands it a list of its own with that pair, wherever the pair
+    stands among ours (and leaves the deck's list alone). Richardson's
+    scheme (0) after prune_list or before it: the same free top, bit for
+    bit, and neither LIGGGHTS' default scheme (1, no-squish) nor ours."""
+    dumps = {}
+    for name, keywords in (("after", "prune_list no integration_scheme 0"),
+                           ("before", "integration_scheme 0 prune_list no"),
+                           ("no_squish", "prune_list no integration_scheme 1"),
+                           ("symmetric_top", "prune_list no")):
+        deck = rod_deck([((0, 0, 0), (1, 0, 0), (0, 0, 0), (3.0, -2.0, 40.0))],
+                        steps=200, dump_every=200, dt=4e-5)
+        deck = deck.replace("fix move all nve/spherocylinder\n",
+                            f"fix move all nve/spherocylinder {keywords}\n")
+        run_liggghts(deck, tmp_path / name)
+        dumps[name] = (tmp_path / name / "rods.dump").read_text()
+    assert dumps["after"] == dumps["before"]
+    assert dumps["after"] != dumps["no_squish"]
+    assert dumps["after"] != dumps["symmetric_top"]
+
+
 def test_a_rod_as_long_as_wide_moves_as_the_stock_sphere(tmp_path):
     """L = d: the rod is a sphere. Two of them colliding off centre with
     spin, damping and friction follow the trajectories of atom_style

@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "atom.h"
 #include "atom_vec_spherocylinder.h"
@@ -26,7 +27,15 @@
 using namespace LAMMPS_NS;
 
 FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg) :
-  FixNVEAsphereBase(lmp, checked_arguments(lmp, narg, arg), arg),
+  FixNVESpherocylinder(lmp, narg, arg, base_arguments(lmp, narg, arg))
+{
+}
+
+// `base` lives until this constructor returns: FixNVEAsphereBase reads it
+// while it is constructed and keeps no pointer to it
+FixNVESpherocylinder::FixNVESpherocylinder(LAMMPS *lmp, int narg, char **arg,
+                                           std::vector<char *> base) :
+  FixNVEAsphereBase(lmp, static_cast<int>(base.size()), base.data()),
   rods_(dynamic_cast<AtomVecSpherocylinder *>(atom->avec)),
   symmetric_top_(keyword_value(narg, arg, "integration_scheme", "symmetric_top") == "symmetric_top")
 {
@@ -53,10 +62,13 @@ int FixNVESpherocylinder::setmask()
 /* ----------------------------------------------------------------------
    FixNVEAsphereBase reads its keyword unchecked (a missing value is read
    past the arguments, scheme 4 needs CFD coupling and crashes without it,
-   another number stops the first step): check them first.
+   another number stops the first step): check them first. Then the list
+   it gets, a copy of the pointers (the caller's list stays as it is): id,
+   group, style and the numbered integration_scheme pairs, in their order;
+   it knows no other keyword.
 ------------------------------------------------------------------------- */
 
-int FixNVESpherocylinder::checked_arguments(LAMMPS *lmp, int narg, char **arg)
+std::vector<char *> FixNVESpherocylinder::base_arguments(LAMMPS *lmp, int narg, char **arg)
 {
   for (int i = 3; i < narg; i += 2) {
     const std::string keyword = arg[i];
@@ -73,22 +85,18 @@ int FixNVESpherocylinder::checked_arguments(LAMMPS *lmp, int narg, char **arg)
                               "' (integration_scheme, prune_list)").c_str());
     }
   }
-  // FixNVEAsphereBase knows its numbered integration_scheme only: hand it
-  // those pairs first and stop its reading before the others (the order
-  // of the arguments is ours to change: Fix has copied id, group, style)
-  int base_arguments = 3;
+  std::vector<char *> base(arg, arg + (narg < 3 ? narg : 3));
   for (int i = 3; i < narg; i += 2) {
     if (std::string(arg[i]) != "integration_scheme" || std::string(arg[i + 1]) == "symmetric_top")
       continue;
-    std::swap(arg[base_arguments], arg[i]);
-    std::swap(arg[base_arguments + 1], arg[i + 1]);
-    base_arguments += 2;
+    base.push_back(arg[i]);
+    base.push_back(arg[i + 1]);
   }
-  return base_arguments;
+  return base;
 }
 
 // the value given to `keyword` (the last one if given twice), or `fallback`;
-// the arguments were checked by checked_arguments
+// the arguments were checked by base_arguments
 std::string FixNVESpherocylinder::keyword_value(int narg, char **arg, const std::string &keyword,
                                                 const std::string &fallback)
 {

@@ -40,6 +40,7 @@ FixStyle(nve/spherocylinder,FixNVESpherocylinder)
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fix_nve_asphere_base.h"
 #include "spherocylinder_list_pruning.h"
@@ -59,7 +60,10 @@ class FixNVESpherocylinder : public FixNVEAsphereBase {
   double compute_vector(int);
 
  private:
-  static int checked_arguments(class LAMMPS *, int narg, char **arg);
+  // the public constructor checks the arguments and hands `base`, the
+  // ones FixNVEAsphereBase knows, to this one
+  FixNVESpherocylinder(class LAMMPS *, int narg, char **arg, std::vector<char *> base);
+  static std::vector<char *> base_arguments(class LAMMPS *, int narg, char **arg);
   static std::string keyword_value(int narg, char **arg, const std::string &keyword,
                                    const std::string &fallback);
   void warn_if_time_step_is_coarse();

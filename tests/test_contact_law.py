@@ -14,8 +14,15 @@ Two parts:
   its length; `model hooke`'s stiffness and damping from Y*, e, the
   characteristic velocity, meff and reff. Expected values are worked out
   here from those equations, never taken from the driver.
-- Against LIGGGHTS itself (marked `engine`): see the second half of this
-  file.
+- Against LIGGGHTS itself (marked `engine`): a pair of grains and a grain
+  on a plane, moved by `fix move` through approach, stick, slip both ways,
+  spin and separation, with `model hooke/stiffness` and `model hooke`; the
+  driver replays LIGGGHTS' dumped kinematics and must give its forces,
+  torques and tangential history to 1e-12 relative. The header repeats
+  LIGGGHTS' operations in LIGGGHTS' order, so the two agree bit for bit
+  (they do, on this machine); 1e-12 only leaves room for a compiler that
+  rounds an operation differently, and is far below any difference of
+  convention (the numbers: comment above ENGINE_TOLERANCE).
 """
 
 import math
@@ -282,3 +289,319 @@ def test_hooke_stiffness_and_damping_from_youngs_modulus(driver):
     # constants rebounds at exp(-pi / sqrt(4 meff kn / gamman^2 - 1))
     zeta = gamman / math.sqrt(4 * meff * kn)
     assert math.exp(-math.pi * zeta / math.sqrt(1 - zeta ** 2)) == pytest.approx(restitution)
+
+
+# ================================================================ against LIGGGHTS
+#
+# Two grains (and, separately, a grain and the plane z = 0) moved by
+# `fix move` along a scripted path: they approach, press (overlap up to
+# 1e-4 m), slide to and fro in two directions while the normal turns, spin
+# (the spins change between three runs of 100 steps, through `set`), and
+# separate. Neither grain is integrated (fix move sets x and v; omega stays
+# as set), so the dumped x, v, omega are the ones the contact saw. LIGGGHTS
+# dumps every step with %.17g: the grains' f and torque (the contact's
+# force and torques of the step, the only ones acting), for the pair also
+# compute pair/gran/local's force, torque and tangential history (a
+# re-evaluation at the end of the step that reads the history without
+# advancing it), for the wall the wall's history (fix property/atom
+# history_<wall id>). The driver replays the same kinematics.
+#
+# Tolerance: 1e-12 relative (to the largest |value| of that quantity along
+# the run). contact_law.h performs LIGGGHTS' operations in LIGGGHTS' order
+# on the same doubles (SSE2, no FMA, no -ffast-math in either build), so
+# the sequences are expected to agree bit for bit; 1e-12 leaves room for
+# a compiler that contracts or reorders an operation differently (n =
+# delta/r instead of delta*(1/r) moves the results by 4e-16), and is far
+# below any difference of convention: measured on these paths, a wall
+# lever arm r_i instead of r_i - delta_n/2 moves the torque by 1e-2, a
+# cap on spring plus damping force the force by 6e-3, restoring the
+# shear's length after the projection the force by 7e-7 (the re-read
+# force by 2e-3).
+
+ENGINE_TOLERANCE = 1e-12
+ENGINE_DT = 1.0e-5
+STEPS_PER_RUN = 100
+SPINS = [  # (omega of grain 1, omega of grain 2) in each of the three runs, rad/s
+    ((0.0, 0.0, 20.0), (5.0, 0.0, -10.0)),
+    ((10.0, -15.0, 0.0), (-5.0, 8.0, 0.0)),
+    ((-5.0, 5.0, -30.0), (0.0, -12.0, 6.0)),
+]
+STIFFNESS = {"kn": 1.0e5, "kt": 4.0e4, "gamman": 60.0, "gammat": 25.0, "mu": 0.4}
+HOOKE = {"Y": 5.0e7, "nu": 0.3, "e": 0.8, "v_char": 0.5, "mu": 0.8}
+MODELS = {
+    "hooke/stiffness": f"""
+fix m_kn all property/global kn peratomtypepair 1 {STIFFNESS['kn']!r}
+fix m_kt all property/global kt peratomtypepair 1 {STIFFNESS['kt']!r}
+fix m_gn all property/global gamman peratomtypepair 1 {STIFFNESS['gamman']!r}
+fix m_gt all property/global gammat peratomtypepair 1 {STIFFNESS['gammat']!r}
+fix m_mu all property/global coefficientFriction peratomtypepair 1 {STIFFNESS['mu']!r}
+""",
+    "hooke": f"""
+fix m_Y all property/global youngsModulus peratomtype {HOOKE['Y']!r}
+fix m_nu all property/global poissonsRatio peratomtype {HOOKE['nu']!r}
+fix m_e all property/global coefficientRestitution peratomtypepair 1 {HOOKE['e']!r}
+fix m_mu all property/global coefficientFriction peratomtypepair 1 {HOOKE['mu']!r}
+fix m_vc all property/global characteristicVelocity scalar {HOOKE['v_char']!r}
+""",
+}
+
+
+def driver_model(model):
+    if model == "hooke/stiffness":
+        s = STIFFNESS
+        return stiffness_model(gamman=s["gamman"], gammat=s["gammat"], kn=s["kn"],
+                               kt=s["kt"], mu=s["mu"])
+    h = HOOKE
+    return (f"model hooke {h['Y']!r} {h['nu']!r} {h['Y']!r} {h['nu']!r} {h['e']!r} "
+            f"{h['v_char']!r} {h['mu']!r} 1 0")
+
+
+def format17(count, first="%.17g"):
+    return '"' + " ".join([first] + ["%.17g"] * (count - 1)) + '"'
+
+
+ATOM_COLUMNS = "id x y z vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz radius mass"
+
+# the path: overlap 1.1e-4 sin(pi t / 2.6 ms) - 1e-5 m (contact from step 8 to 252);
+# the pair's normal swings by 22 mrad about z (period 1 ms) and 10 mrad out
+# of plane (1.5 ms); grain 1 drifts at (2, -1, 3) mm/s
+PAIR_PATH = """
+variable t equal step*{dt}
+variable D equal 0.009+1e-5-1.1e-4*sin(PI*v_t/2.6e-3)
+variable Dd equal -1.1e-4*PI/2.6e-3*cos(PI*v_t/2.6e-3)
+variable a equal 0.022*sin(2*PI*v_t/1e-3)
+variable ad equal 0.022*2*PI/1e-3*cos(2*PI*v_t/1e-3)
+variable b equal 0.01*sin(2*PI*v_t/1.5e-3)
+variable bd equal 0.01*2*PI/1.5e-3*cos(2*PI*v_t/1.5e-3)
+variable ux equal cos(v_a)*cos(v_b)
+variable uy equal sin(v_a)*cos(v_b)
+variable uz equal sin(v_b)
+variable dux equal -v_ad*sin(v_a)*cos(v_b)-v_bd*cos(v_a)*sin(v_b)
+variable duy equal v_ad*cos(v_a)*cos(v_b)-v_bd*sin(v_a)*sin(v_b)
+variable duz equal v_bd*cos(v_b)
+variable x2 equal 0.002*v_t+v_D*v_ux-(0.009+1e-5)
+variable y2 equal -0.001*v_t+v_D*v_uy
+variable z2 equal 0.003*v_t+v_D*v_uz
+variable vx2 equal 0.002+v_Dd*v_ux+v_D*v_dux
+variable vy2 equal -0.001+v_Dd*v_uy+v_D*v_duy
+variable vz2 equal 0.003+v_Dd*v_uz+v_D*v_duz
+fix m1 g1 move linear 0.002 -0.001 0.003
+fix m2 g2 move variable v_x2 v_y2 v_z2 v_vx2 v_vy2 v_vz2
+"""
+
+# the grain on the plane: the same overlap; it slides along x (period 1 ms,
+# 2e-4 m) and y (1.3 ms, 1e-4 m)
+WALL_PATH = """
+variable t equal step*{dt}
+variable x1 equal 2e-4*sin(2*PI*v_t/1e-3)
+variable vx1 equal 2e-4*2*PI/1e-3*cos(2*PI*v_t/1e-3)
+variable y1 equal 1e-4*sin(2*PI*v_t/1.3e-3)
+variable vy1 equal 1e-4*2*PI/1.3e-3*cos(2*PI*v_t/1.3e-3)
+variable z1 equal -1.1e-4*sin(PI*v_t/2.6e-3)
+variable vz1 equal -1.1e-4*PI/2.6e-3*cos(PI*v_t/2.6e-3)
+fix m1 g1 move variable v_x1 v_y1 v_z1 v_vx1 v_vy1 v_vz1
+"""
+
+
+def scripted_deck(model, wall):
+    """The deck: grain 1 (d = 10 mm, 2500 kg/m3) and, for the pair, grain 2
+    (d = 8 mm, 2700 kg/m3); three runs with the spins of SPINS."""
+    if wall:
+        model_args = f"model {model} tangential history"
+        atoms = """
+create_atoms 1 single 0 0 0.00501 units box
+set atom 1 diameter 0.01 density 2500
+group g1 id 1
+"""
+        contact = f"fix wall all wall/gran {model_args} primitive type 1 zplane 0.0\n"
+        path = WALL_PATH
+        columns = ATOM_COLUMNS + " f_history_wall[1] f_history_wall[2] f_history_wall[3]"
+        local = ""
+    else:
+        atoms = """
+create_atoms 1 single 0 0 0 units box
+create_atoms 1 single 0.00901 0 0 units box
+set atom 1 diameter 0.01 density 2500
+set atom 2 diameter 0.008 density 2700
+group g1 id 1
+group g2 id 2
+"""
+        contact = ""
+        path = PAIR_PATH
+        columns = ATOM_COLUMNS
+        local = f"""
+compute pgl all pair/gran/local id force torque history
+dump dl all local 1 dump.pair {' '.join(f'c_pgl[{k}]' for k in range(1, 13))}
+dump_modify dl format {format17(12)}
+"""
+    runs = []
+    for spin_1, spin_2 in SPINS:
+        runs.append("set atom 1 omegax {} omegay {} omegaz {}".format(*spin_1))
+        if not wall:
+            runs.append("set atom 2 omegax {} omegay {} omegaz {}".format(*spin_2))
+        runs.append(f"run {STEPS_PER_RUN}")
+    runs = "\n".join(runs)
+    return f"""
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+newton off
+communicate single vel yes
+region box block -0.03 0.03 -0.03 0.03 -0.03 0.03 units box
+create_box 1 box
+neighbor 0.002 bin
+neigh_modify delay 0
+{MODELS[model]}
+pair_style gran model {model} tangential history
+pair_coeff * *
+timestep {ENGINE_DT!r}
+{contact}
+{atoms}
+{path.format(dt=repr(ENGINE_DT))}
+dump d all custom 1 dump.atoms {columns}
+dump_modify d sort id format {format17(len(columns.split()), first="%d")}
+{local}
+thermo 100
+{runs}
+"""
+
+
+def frames_by_step(path):
+    from analysis.lammps_io import read_dump
+    frames = {}
+    for step, columns in read_dump(path):
+        frames.setdefault(step, columns)   # a run's set-up repeats a step: keep the first
+    return frames
+
+
+def vec(columns, names, row):
+    return [float(columns[name][row]) for name in names]
+
+
+def worst(pairs):
+    """Largest |a - b| over the run, relative to the largest |b|."""
+    scale = max(abs(b) for _, b in pairs)
+    return max(abs(a - b) for a, b in pairs) / scale, scale
+
+
+def compare(label, ours, theirs, report):
+    pairs = [(a, b) for a_vec, b_vec in zip(ours, theirs) for a, b in zip(a_vec, b_vec)]
+    relative, scale = worst(pairs)
+    exact = sum(a == b for a, b in pairs)
+    report.append(f"{label}: worst {relative:.3g} of {scale:.3g}, {exact}/{len(pairs)} identical")
+    return relative
+
+
+@pytest.mark.engine
+@pytest.mark.parametrize("model", ["hooke/stiffness", "hooke"])
+def test_pair_matches_liggghts(run, tmp_path, driver, model):
+    run(scripted_deck(model, wall=False))
+    atoms = frames_by_step(tmp_path / "dump.atoms")
+    pairs = frames_by_step(tmp_path / "dump.pair")
+    steps = list(range(1, len(SPINS) * STEPS_PER_RUN + 1))
+    commands = [driver_model(model)]
+    for step in steps:
+        c = atoms[step]
+        i, j = 0, 1      # rows of grains 1 and 2 (sorted by id)
+        # x_i x_j v_i v_j omega_i omega_j
+        kinematics = " ".join(numbers(vec(c, names, row))
+                              for names in (("x", "y", "z"), ("vx", "vy", "vz"),
+                                            ("omegax", "omegay", "omegaz"))
+                              for row in (i, j))
+        tail = numbers([c["radius"][i], c["radius"][j], c["mass"][i], c["mass"][j]])
+        commands.append(f"pair 1 {ENGINE_DT!r} {kinematics} {tail}")
+        commands.append(f"pair 0 {ENGINE_DT!r} {kinematics} {tail}")
+    replies = driver(commands)[1:]
+    stepped = [parse_contact(fields) for fields in replies[0::2]]
+    reread = [parse_contact(fields) for fields in replies[1::2]]
+
+    # f1, f2, t1, t2: the grains' force and torque of the step (history
+    # advanced); pgl_*: compute pair/gran/local's re-evaluation (read only)
+    ours = {"f1": [], "f2": [], "t1": [], "t2": [], "pgl_f": [], "pgl_t": [], "pgl_h": []}
+    theirs = {key: [] for key in ours}
+    contact_steps = []
+    for step, mine, again in zip(steps, stepped, reread):
+        c, local = atoms[step], pairs[step]
+        in_liggghts = len(local.get("c_pgl[1]", [])) == 1
+        assert (mine is not None) == in_liggghts, f"step {step}: contact differs"
+        if mine is None:
+            assert not any(c[name][k] for name in ("fx", "fy", "fz", "tqx", "tqy", "tqz")
+                           for k in (0, 1)), f"step {step}: a force without contact"
+            continue
+        contact_steps.append(step)
+        assert (local["c_pgl[1]"][0], local["c_pgl[2]"][0]) == (1.0, 2.0)
+        ours["f1"].append(mine["force"])
+        ours["f2"].append([-v for v in mine["force"]])
+        ours["t1"].append(mine["torque_i"])
+        ours["t2"].append(mine["torque_j"])
+        ours["pgl_f"].append(again["force"])
+        ours["pgl_t"].append(again["torque_i"])
+        ours["pgl_h"].append(mine["shear"])
+        assert again["shear"] == mine["shear"]      # a read-only call leaves it
+        theirs["f1"].append(vec(c, ("fx", "fy", "fz"), 0))
+        theirs["f2"].append(vec(c, ("fx", "fy", "fz"), 1))
+        theirs["t1"].append(vec(c, ("tqx", "tqy", "tqz"), 0))
+        theirs["t2"].append(vec(c, ("tqx", "tqy", "tqz"), 1))
+        pgl = [float(local[f"c_pgl[{k}]"][0]) for k in range(4, 13)]
+        theirs["pgl_f"].append(pgl[0:3])
+        theirs["pgl_t"].append(pgl[3:6])
+        theirs["pgl_h"].append(pgl[6:9])
+    slides = [mine["slides"] for mine in stepped if mine is not None]
+    report = [f"{model}: {len(contact_steps)} contact steps, {sum(slides)} sliding, "
+              f"{sum(a and not b for a, b in zip(slides, slides[1:]))} slide-to-stick"]
+    results = {key: compare(key, ours[key], theirs[key], report) for key in ours}
+    report.append("".join("S" if x else "." for x in slides))
+    print("\n".join(report))
+    assert all(value <= ENGINE_TOLERANCE for value in results.values()), "\n".join(report)
+    # the sequence is the one described: contact in each run, both branches
+    # of the cap, and slip in both senses of both tangential directions
+    assert any(a and not b for a, b in zip(slides, slides[1:]))   # slide -> stick
+    assert any(b and not a for a, b in zip(slides, slides[1:]))   # stick -> slide
+    assert {s // STEPS_PER_RUN for s in contact_steps} >= {0, 1, 2}
+
+
+@pytest.mark.engine
+@pytest.mark.parametrize("model", ["hooke/stiffness", "hooke"])
+def test_wall_matches_liggghts(run, tmp_path, driver, model):
+    run(scripted_deck(model, wall=True))
+    atoms = frames_by_step(tmp_path / "dump.atoms")
+    steps = list(range(1, len(SPINS) * STEPS_PER_RUN + 1))
+    commands = [driver_model(model)]
+    for step in steps:
+        c = atoms[step]
+        kinematics = " ".join(numbers(vec(c, names, 0))
+                              for names in (("x", "y", "z"), ("vx", "vy", "vz"),
+                                            ("omegax", "omegay", "omegaz")))
+        tail = numbers([c["radius"][0], c["mass"][0]])
+        commands.append(f"zplane 1 {ENGINE_DT!r} 0.0 {kinematics} {tail}")
+    replies = [parse_contact(fields) for fields in driver(commands)[1:]]
+    history = [f"f_history_wall[{k}]" for k in (1, 2, 3)]
+    ours = {"f": [], "t": [], "history": []}
+    theirs = {key: [] for key in ours}
+    contact_steps = []
+    for step, mine in zip(steps, replies):
+        c = atoms[step]
+        if mine is None:
+            assert not any(c[name][0] for name in ("fx", "fy", "fz", "tqx", "tqy", "tqz")), \
+                f"step {step}: a force without contact"
+            assert not any(c[name][0] for name in history), f"step {step}: history kept"
+            continue
+        contact_steps.append(step)
+        ours["f"].append(mine["force"])
+        ours["t"].append(mine["torque_i"])
+        ours["history"].append(mine["shear"])
+        theirs["f"].append(vec(c, ("fx", "fy", "fz"), 0))
+        theirs["t"].append(vec(c, ("tqx", "tqy", "tqz"), 0))
+        theirs["history"].append(vec(c, history, 0))
+    slides = [mine["slides"] for mine in replies if mine is not None]
+    report = [f"{model} wall: {len(contact_steps)} contact steps, {sum(slides)} sliding, "
+              f"{sum(a and not b for a, b in zip(slides, slides[1:]))} slide-to-stick",
+              "".join("S" if x else "." for x in slides)]
+    results = {key: compare(key, ours[key], theirs[key], report) for key in ours}
+    print("\n".join(report))
+    assert all(value <= ENGINE_TOLERANCE for value in results.values()), "\n".join(report)
+    assert any(a and not b for a, b in zip(slides, slides[1:]))   # slide -> stick
+    assert any(b and not a for a, b in zip(slides, slides[1:]))   # stick -> slide
+    assert {s // STEPS_PER_RUN for s in contact_steps} >= {0, 1, 2}
+    assert not replies[-1] and not replies[0]                     # starts and ends apart

@@ -23,6 +23,7 @@ STOCK_BINARY = Path("/usr/bin/liggghts")
 REPORT = ROOT / "doc" / "accuracy_cost_rolling.md"
 RESULTS = ROOT / "bench" / "results"
 WORK = ROOT / "bench" / "work"
+INPUTS = ROOT / "inputs"
 SECTION_ORDER = ["rolling_cost", "stock_speed", "rolling_accuracy"]
 
 LOOP_TIME = re.compile(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms",
@@ -83,6 +84,48 @@ def _error_context(command, workdir):
         return "\n".join(lines[-15:])
     except (OSError, subprocess.TimeoutExpired) as problem:
         return f"(could not rerun for the error message: {problem})"
+
+
+def scene_deck(scene, variables):
+    """A deck that runs the production deck inputs/<scene>/in.<scene> with
+    `variables` (name -> value) set ahead of it as index variables (as
+    `-var name value` would)."""
+    lines = [f"variable {name} index {value}" for name, value in variables.items()]
+    lines += [f"variable inputs index {INPUTS}", f"include {INPUTS / scene / f'in.{scene}'}"]
+    return "\n".join(lines) + "\n"
+
+
+# ---- reading LIGGGHTS' screen output ----------------------------------------
+
+def last_int(pattern, output):
+    """The last match of `pattern` (one integer group) in `output`, or None."""
+    found = pattern.findall(output)
+    return int(found[-1]) if found else None
+
+
+def last_run_steps(output):
+    """Steps between the first and the last thermo line of the last run (a
+    run stopped early, by a signal say, still reports the steps it was
+    asked for in its Loop time line)."""
+    lines = output[:output.rindex("Loop time")].splitlines()
+    header = max(k for k, line in enumerate(lines) if line.split()[:1] == ["Step"])
+    steps = [int(line.split()[0]) for line in lines[header + 1:]
+             if line.split()[:1] and line.split()[0].isdigit()]
+    return steps[-1] - steps[0]
+
+
+def check_complete(output, steps, where):
+    """Raises LiggghtsFailed unless the last run made its `steps` steps."""
+    done = last_run_steps(output)
+    if done != steps:
+        raise LiggghtsFailed(f"{where}: the last run made {done} of its {steps} steps (interrupted?)")
+
+
+def final_ke(output):
+    """KinEng of the last thermo line before the last Loop time."""
+    lines = output[:output.rindex("Loop time")].splitlines()
+    rows = [line.split() for line in lines if line.split()[:1] and line.split()[0].isdigit()]
+    return rows[-1][2] if rows else "?"
 
 
 def machine():
@@ -182,20 +225,32 @@ def write_section(name, markdown):
     """Replaces the section `name` of doc/accuracy_cost_rolling.md (between
     its BEGIN/END markers) with `markdown`, leaving the other sections as
     they are; creates the file and missing sections in SECTION_ORDER."""
-    begin, end = f"<!-- BEGIN {name} -->", f"<!-- END {name} -->"
-    if REPORT.exists():
-        text = REPORT.read_text()
-    else:
-        text = _REPORT_HEADER
+    text = REPORT.read_text() if REPORT.exists() else _REPORT_HEADER
     for section in SECTION_ORDER:
         if f"<!-- BEGIN {section} -->" not in text:
             text = text.rstrip("\n") + (f"\n\n<!-- BEGIN {section} -->\n"
                                         f"(not measured yet: run `bench/{section}.py`)\n"
                                         f"<!-- END {section} -->\n")
+    REPORT.parent.mkdir(parents=True, exist_ok=True)
+    REPORT.write_text(replace_section(text, name, markdown))
+
+
+def write_page_section(path, name, markdown, header):
+    """Replaces the section `name` of the page `path` (between its
+    BEGIN/END markers; appended if missing) with `markdown`, leaving the
+    rest of the page as it is; a new page starts with `header`."""
+    text = path.read_text() if path.exists() else header
+    if f"<!-- BEGIN {name} -->" not in text:
+        text = text.rstrip("\n") + f"\n\n<!-- BEGIN {name} -->\n<!-- END {name} -->\n"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(replace_section(text, name, markdown))
+
+
+def replace_section(text, name, markdown):
+    begin, end = f"<!-- BEGIN {name} -->", f"<!-- END {name} -->"
     head, rest = text.split(begin, 1)
     _, tail = rest.split(end, 1)
-    REPORT.parent.mkdir(parents=True, exist_ok=True)
-    REPORT.write_text(f"{head}{begin}\n{markdown.strip()}\n{end}{tail}")
+    return f"{head}{begin}\n{markdown.strip()}\n{end}{tail}"
 
 
 _REPORT_HEADER = """# Accuracy and cost of rolling resistance

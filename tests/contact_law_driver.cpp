@@ -15,10 +15,16 @@
 //   zplane <update 0|1> <dt> <z0> <x_i 3> <v_i 3> <omega_i 3> <r_i> <m_i>
 //                                   (a fixed plane z = z0 below the grain, as LIGGGHTS'
 //                                    primitive `zplane` computes it)
-//        -> apart                   (no contact; the shear is zeroed)
+//        -> apart                   (no contact; the shear is zeroed, or kept for a
+//                                    pair after `separated keep`)
 //        -> contact fn <Fn> slides <0|1> overlap <delta_n> force <F_i 3>
 //           torque_i <3> torque_j <3> shear <3>
 //   shear <s 3>                     -> shear <3>   (sets the history)
+//   separated zero|keep             -> separated <policy>: what a pair that no longer
+//                                      touches does with its history. LIGGGHTS 3.8
+//                                      keeps it until the next neighbor build (a
+//                                      re-contact before that starts from it);
+//                                      zero (the default) is what a wall does.
 
 #include "contact_law.h"
 
@@ -73,6 +79,7 @@ int main()
 {
   Model model = Model();
   double shear[3] = { 0.0, 0.0, 0.0 };
+  bool keep_when_separated = false;
   std::string line;
   while (std::getline(std::cin, line)) {
     std::istringstream in(line);
@@ -116,7 +123,8 @@ int main()
       read3(in, omega_i); read3(in, omega_j);
       in >> radius_i >> radius_j >> mass_i >> mass_j;
       if (!touching(x_i, x_j, radius_i, radius_j)) {
-        for (int d = 0; d < 3; ++d) shear[d] = 0.0;
+        if (!keep_when_separated)
+          for (int d = 0; d < 3; ++d) shear[d] = 0.0;
         std::printf("apart\n");
         continue;
       }
@@ -148,6 +156,11 @@ int main()
       const ContactForces c = contact_forces(k, s, model.mu, dt, model.limit_force,
                                              update != 0, shear);
       print_contact(c, k.overlap, shear);
+    } else if (command == "separated") {
+      std::string policy;
+      in >> policy;
+      keep_when_separated = policy == "keep";
+      std::printf("separated %s", keep_when_separated ? "keep" : "zero");
     } else if (command == "shear") {
       read3(in, shear);
       print3("shear", shear);

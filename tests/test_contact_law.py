@@ -403,9 +403,9 @@ fix m1 g1 move variable v_x1 v_y1 v_z1 v_vx1 v_vy1 v_vz1
 """
 
 
-def scripted_deck(model, wall):
+def scripted_deck(model, wall, pair_path=None, spins=None, steps_per_run=STEPS_PER_RUN):
     """The deck: grain 1 (d = 10 mm, 2500 kg/m3) and, for the pair, grain 2
-    (d = 8 mm, 2700 kg/m3); three runs with the spins of SPINS."""
+    (d = 8 mm, 2700 kg/m3); one run per entry of spins (default SPINS)."""
     if wall:
         model_args = f"model {model} tangential history"
         atoms = """
@@ -427,7 +427,7 @@ group g1 id 1
 group g2 id 2
 """
         contact = ""
-        path = PAIR_PATH
+        path = pair_path or PAIR_PATH
         columns = ATOM_COLUMNS
         local = f"""
 compute pgl all pair/gran/local id force torque history
@@ -435,11 +435,11 @@ dump dl all local 1 dump.pair {' '.join(f'c_pgl[{k}]' for k in range(1, 13))}
 dump_modify dl format {format17(12)}
 """
     runs = []
-    for spin_1, spin_2 in SPINS:
+    for spin_1, spin_2 in spins or SPINS:
         runs.append("set atom 1 omegax {} omegay {} omegaz {}".format(*spin_1))
         if not wall:
             runs.append("set atom 2 omegax {} omegay {} omegaz {}".format(*spin_2))
-        runs.append(f"run {STEPS_PER_RUN}")
+        runs.append(f"run {steps_per_run}")
     runs = "\n".join(runs)
     return f"""
 units si
@@ -468,7 +468,7 @@ thermo 100
 
 
 def frames_by_step(path):
-    from analysis.lammps_io import read_dump
+    from analysis.common.lammps_io import read_dump
     frames = {}
     for step, columns in read_dump(path):
         frames.setdefault(step, columns)   # a run's set-up repeats a step: keep the first
@@ -493,14 +493,13 @@ def compare(label, ours, theirs, report):
     return relative
 
 
-@pytest.mark.engine
-@pytest.mark.parametrize("model", ["hooke/stiffness", "hooke"])
-def test_pair_matches_liggghts(run, tmp_path, driver, model):
-    run(scripted_deck(model, wall=False))
-    atoms = frames_by_step(tmp_path / "dump.atoms")
-    pairs = frames_by_step(tmp_path / "dump.pair")
-    steps = list(range(1, len(SPINS) * STEPS_PER_RUN + 1))
-    commands = [driver_model(model)]
+def replay_pair(driver, model, atoms, pairs, steps, policy="zero"):
+    """Replays LIGGGHTS' dumped pair kinematics through the driver: returns
+    (ours, theirs, contact steps, slides), ours and theirs dicts of lists of
+    3-vectors: f1, f2, t1, t2 the grains' force and torque of the step
+    (history advanced), pgl_* compute pair/gran/local's re-evaluation at
+    the end of the step (history read only) and the history."""
+    commands = [driver_model(model), f"separated {policy}"]
     for step in steps:
         c = atoms[step]
         i, j = 0, 1      # rows of grains 1 and 2 (sorted by id)
@@ -512,12 +511,10 @@ def test_pair_matches_liggghts(run, tmp_path, driver, model):
         tail = numbers([c["radius"][i], c["radius"][j], c["mass"][i], c["mass"][j]])
         commands.append(f"pair 1 {ENGINE_DT!r} {kinematics} {tail}")
         commands.append(f"pair 0 {ENGINE_DT!r} {kinematics} {tail}")
-    replies = driver(commands)[1:]
+    replies = driver(commands)[2:]
     stepped = [parse_contact(fields) for fields in replies[0::2]]
     reread = [parse_contact(fields) for fields in replies[1::2]]
 
-    # f1, f2, t1, t2: the grains' force and torque of the step (history
-    # advanced); pgl_*: compute pair/gran/local's re-evaluation (read only)
     ours = {"f1": [], "f2": [], "t1": [], "t2": [], "pgl_f": [], "pgl_t": [], "pgl_h": []}
     theirs = {key: [] for key in ours}
     contact_steps = []
@@ -548,6 +545,17 @@ def test_pair_matches_liggghts(run, tmp_path, driver, model):
         theirs["pgl_t"].append(pgl[3:6])
         theirs["pgl_h"].append(pgl[6:9])
     slides = [mine["slides"] for mine in stepped if mine is not None]
+    return ours, theirs, contact_steps, slides
+
+
+@pytest.mark.engine
+@pytest.mark.parametrize("model", ["hooke/stiffness", "hooke"])
+def test_pair_matches_liggghts(run, tmp_path, driver, model):
+    run(scripted_deck(model, wall=False))
+    steps = list(range(1, len(SPINS) * STEPS_PER_RUN + 1))
+    ours, theirs, contact_steps, slides = replay_pair(
+        driver, model, frames_by_step(tmp_path / "dump.atoms"),
+        frames_by_step(tmp_path / "dump.pair"), steps)
     report = [f"{model}: {len(contact_steps)} contact steps, {sum(slides)} sliding, "
               f"{sum(a and not b for a, b in zip(slides, slides[1:]))} slide-to-stick"]
     results = {key: compare(key, ours[key], theirs[key], report) for key in ours}
@@ -605,3 +613,38 @@ def test_wall_matches_liggghts(run, tmp_path, driver, model):
     assert any(b and not a for a, b in zip(slides, slides[1:]))   # stick -> slide
     assert {s // STEPS_PER_RUN for s in contact_steps} >= {0, 1, 2}
     assert not replies[-1] and not replies[0]                     # starts and ends apart
+
+
+@pytest.mark.engine
+def test_a_separated_pair_keeps_its_history_until_the_neighbor_lists_are_rebuilt(
+        run, tmp_path, driver):
+    """LIGGGHTS 3.8 leaves a pair's tangential history alone when the
+    grains part (pair_gran_base.h zeroes it only within
+    neigh_modify contact_distance_factor, 1 by default), so a pair that
+    touches again before the next neighbor build starts from its old,
+    projected history; a build (here: none during the single run) drops
+    it. The same path as above but pressing twice (period 1.3 ms) in one
+    run: the replay matches bit for bit when the driver keeps the history
+    of a separated pair, and not when it zeroes it (the host's choice,
+    doc/lammps_host.md section 5.1)."""
+    twice = PAIR_PATH.replace("sin(PI*v_t/2.6e-3)", "sin(2*PI*v_t/1.3e-3)").replace(
+        "-1.1e-4*PI/2.6e-3*cos(PI*v_t/2.6e-3)", "-1.1e-4*2*PI/1.3e-3*cos(2*PI*v_t/1.3e-3)")
+    assert twice.count("1.3e-3") == 3 and "2.6e-3" not in twice
+    output = run(scripted_deck("hooke/stiffness", wall=False, pair_path=twice,
+                               spins=SPINS[:1], steps_per_run=3 * STEPS_PER_RUN))
+    assert "Neighbor list builds = 0" in output
+    atoms = frames_by_step(tmp_path / "dump.atoms")
+    pairs = frames_by_step(tmp_path / "dump.pair")
+    steps = list(range(1, 3 * STEPS_PER_RUN + 1))
+    report = []
+    ours, theirs, contact_steps, _ = replay_pair(driver, "hooke/stiffness", atoms, pairs,
+                                                  steps, policy="keep")
+    episodes = 1 + sum(b - a > 1 for a, b in zip(contact_steps, contact_steps[1:]))
+    assert episodes >= 2
+    kept = {key: compare(key, ours[key], theirs[key], report) for key in ours}
+    assert all(value <= ENGINE_TOLERANCE for value in kept.values()), "\n".join(report)
+    ours, theirs, _, _ = replay_pair(driver, "hooke/stiffness", atoms, pairs, steps,
+                                     policy="zero")
+    # zeroing instead moves the history of the second contact by 3e-4 of its
+    # largest value
+    assert compare("pgl_h", ours["pgl_h"], theirs["pgl_h"], report) > 1e-6

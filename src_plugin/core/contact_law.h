@@ -253,7 +253,10 @@ inline Kinematics pair_kinematics(const double x_i[3], const double x_j[3],
 // and then replaces the overlap by r_i - r (which can differ from the
 // wall's in the last bit) for the normal force. The lever arm is
 // r_i - overlap/2, as for a pair (not r_i). v_wall is the wall's velocity
-// at the contact (0 for a fixed wall).
+// at the contact (0 for a fixed wall). A primitive wall counts a contact
+// when its gap (distance - r_i) is <= 0, a pair only when rsq < radsum^2
+// (Rule 8): a grain exactly touching a wall feels it, a grain exactly
+// touching another does not.
 inline Kinematics wall_kinematics(const double delta[3], double wall_overlap,
                                   const double v_i[3], const double v_wall[3],
                                   const double omega_i[3], double radius_i)

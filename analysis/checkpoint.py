@@ -45,7 +45,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from analysis.lammps_io import iter_dump
+from analysis.common.lammps_io import iter_dump
 from analysis.silo3d_records import DUMP_CUT, read_dump_cut, read_run_info, write_dump_cut
 
 CHECKPOINTS = "checkpoints.txt"

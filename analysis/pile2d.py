@@ -30,6 +30,8 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
+from analysis.common.tables import read_rows
+
 # w_c of the paper (section III), in d: model -> (value, uncertainty)
 # Both "overlap" (l_c = chord of the overlap) and "depth" (l_c = overlap
 # depth) are readings of the paper's "k_r ~ l_c^2" model (doc/pile2d.md).
@@ -41,34 +43,6 @@ MODEL_ORDER = ("none", "overlap", "depth", "fixed")
 
 
 # ---------------------------------------------------------------- reading
-
-def read_discharges(path):
-    """Rows of a record file (discharges, or in.build's piles) as dicts:
-    `model` and any column that is not a number as text, the others as
-    float. A line with fewer fields than the header (cut by an interruption)
-    is skipped; a repeated header line is allowed."""
-    names, rows = None, []
-    for line in Path(path).read_text().splitlines():
-        stripped = line.strip()
-        if not stripped:
-            continue
-        if stripped.startswith("#"):
-            names = stripped.lstrip("#").split()
-            continue
-        if names is None:
-            raise ValueError(f"{path}: no '#' header line naming the columns")
-        words = stripped.split()
-        if len(words) < len(names):
-            continue
-        row = {}
-        for name, word in zip(names, words):
-            try:
-                row[name] = word if name == "model" else float(word)
-            except ValueError:
-                row[name] = word
-        rows.append(row)
-    return rows
-
 
 def height_table(rows, model, length, settled_only=False):
     """(widths, seeds, H): H[i, j] = h of seed i at width j (NaN where the
@@ -432,7 +406,7 @@ def parse(argv):
 
 def main(argv=None):
     args = parse(argv)
-    rows = read_discharges(args.results)
+    rows = read_rows(args.results)
     if not rows:
         print(f"{args.results}: no discharge records", file=sys.stderr)
         return 1

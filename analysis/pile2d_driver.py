@@ -33,6 +33,8 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from analysis.common.tables import read_rows
+
 ROOT = Path(__file__).resolve().parent.parent
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
 # runs, and every run of the ensemble must use the same one)
@@ -76,30 +78,6 @@ def width_key(w):
     return round(float(w), 6)
 
 
-def read_rows(path):
-    """The lines of a record file as dicts named by its `#` header; a line
-    cut by an interruption is skipped; missing file -> no rows."""
-    rows = []
-    path = Path(path)
-    if not path.exists():
-        return rows
-    names = None
-    for line in path.read_text().splitlines():
-        words = line.split()
-        if not words:
-            continue
-        if words[0] == "#":
-            names = words[1:]
-            continue
-        if line.startswith("#"):
-            names = line.lstrip("#").split()
-            continue
-        if names is None or len(words) < len(names):
-            continue          # a line cut by an interruption
-        rows.append(dict(zip(names, words)))
-    return rows
-
-
 def row_key(row, key_columns):
     """The key tuple of a row: model as text, the rest rounded numbers."""
     return tuple(row[c] if c == "model" else width_key(row[c]) for c in key_columns)
@@ -107,7 +85,7 @@ def row_key(row, key_columns):
 
 def read_records(path, key_columns):
     """Set of key tuples of the lines of a record file."""
-    return {row_key(row, key_columns) for row in read_rows(path)}
+    return {row_key(row, key_columns) for row in read_rows(path, text=True, missing_ok=True)}
 
 
 def pile_name(model, length, seed):
@@ -214,7 +192,7 @@ class Runner:
         piles.unlink(missing_ok=True)
         seconds = self.liggghts("in.build", {**variables, "pile": restart, "piles": piles},
                                 self.out / "logs" / f"build_{name}.txt")
-        rebuilt = read_rows(piles)
+        rebuilt = read_rows(piles, text=True, missing_ok=True)
         problem = rebuilt_pile_problem(recorded_row, rebuilt[-1] if rebuilt else None)
         if problem:
             if restart.exists():
@@ -231,7 +209,7 @@ class Runner:
         name = pile_name(model, length, seed)
         restart = self.restart_path(model, length, seed)
         variables = self.common_variables(model, length, seed)
-        recorded = [row for row in read_rows(self.piles_file)
+        recorded = [row for row in read_rows(self.piles_file, text=True, missing_ok=True)
                     if row_key(row, ("model", "L", "seed")) == pile_key(model, length, seed)]
         done = read_records(self.results_file, ("model", "L", "w", "seed"))
         missing = missing_widths(done, model, length, seed, widths)

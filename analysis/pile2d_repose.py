@@ -46,8 +46,9 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import read_dump
-from analysis.pile2d import mean_std_ci, read_discharges
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_rows
+from analysis.pile2d import mean_std_ci
 
 ROOT = Path(__file__).resolve().parent.parent
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
@@ -121,7 +122,7 @@ def ensemble_shapes(run_dir, peak_margin=PEAK_MARGIN):
     columns plus the shape; piles without a dump are counted, not read."""
     run_dir = Path(run_dir)
     shapes, missing = [], 0
-    for row in read_discharges(run_dir / "piles.txt"):
+    for row in read_rows(run_dir / "piles.txt"):
         dump = Path(str(pile_path(run_dir, row)) + ".dump")
         if not dump.exists():
             missing += 1
@@ -144,8 +145,8 @@ def run_on(run_dir, factor, lengths=None, jobs=1):
     record = run_dir / "runon.txt"
     done = set()
     if record.exists():
-        done = {(r["model"], r["L"], int(r["seed"])) for r in read_discharges(record)}
-    todo = [r for r in read_discharges(run_dir / "piles.txt")
+        done = {(r["model"], r["L"], int(r["seed"])) for r in read_rows(record)}
+    todo = [r for r in read_rows(run_dir / "piles.txt")
             if (r["model"], r["L"], int(r["seed"])) not in done
             and (lengths is None or r["L"] in lengths) and pile_path(run_dir, r).exists()]
     (run_dir / "logs").mkdir(exist_ok=True)
@@ -177,7 +178,7 @@ def runon_summary(run_dir):
     if not record.exists():
         return []
     groups = {}
-    for r in read_discharges(record):
+    for r in read_rows(record):
         groups.setdefault((r["model"], r["L"]), []).append(r)
     summary = []
     for (model, length), rows in sorted(groups.items()):
@@ -205,7 +206,7 @@ def base_motion(dump_path, dt, base_height=0.75):
     """Rows (time, grains over the substrate, base grains, base grains moving faster than
     1e-3 sqrt(g d), mean |v_x| and mean slip |v_x + omega_z r| of the base
     grains) for every frame of a dump with x y vx omegaz radius type."""
-    from analysis.lammps_io import read_dump as read_frames
+    from analysis.common.lammps_io import read_dump as read_frames
     rows = []
     for step, c in read_frames(dump_path):
         substrate = c["type"] == 2

@@ -31,7 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.pile2d import PAPER_CRITICAL_WIDTH, mean_std_ci, read_discharges, summarize
+from analysis.common.tables import read_rows
+from analysis.pile2d import PAPER_CRITICAL_WIDTH, mean_std_ci, summarize
 from analysis.results_tables import DATA_DIR, Row, markdown_table
 
 # the page's sections (GitHub anchors of doc/pile2d.md's headings)
@@ -63,7 +64,7 @@ def ensemble_rows(data_dir=DATA_DIR):
     """The discharges of the four models at L = 20 ... 200 d."""
     rows = []
     for name, models in ENSEMBLE:
-        rows += [r for r in read_discharges(Path(data_dir) / name) if r["model"] in models]
+        rows += [r for r in read_rows(Path(data_dir) / name) if r["model"] in models]
     return rows
 
 
@@ -191,8 +192,8 @@ STANDING_RUNS = (("sublc0.1", "none"), ("depth_sub0.1", "depth"), ("base", "fixe
 
 
 def shape_rows(data_dir=DATA_DIR):
-    shapes = read_discharges(Path(data_dir) / "pile2d_repose" / "shapes.txt")
-    flank = read_discharges(Path(data_dir) / "pile2d_repose" / "shapes_peak_margin10.txt")
+    shapes = read_rows(Path(data_dir) / "pile2d_repose" / "shapes.txt")
+    flank = read_rows(Path(data_dir) / "pile2d_repose" / "shapes_peak_margin10.txt")
     rows = []
     spread = [(length, *_angle(shapes, "base", "none", length)) for length in (20.0, 50.0, 100.0)]
     held = [(length, *_angle(shapes, "sublc0.1", "none", length)) for length in (20.0, 50.0, 100.0)]

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 
 # Paper's Table 1 (units of m g): mu -> ((fn_b, +-), (fn_a, +-)).
 PAPER_TABLE1 = {

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis import silo2d
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 
 # contacts.txt's columns (clog id1 id2 x z fn ft arch), positions to 7
 # significant digits (0.1 um in the paper's silo), forces to 6

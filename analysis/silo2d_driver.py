@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 
 ROOT = Path(__file__).resolve().parent.parent
 # LIGGGHTS reads its input file line by line as it runs (and `jump SELF`

@@ -18,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import read_dump, read_table
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_table
 
 FREE_TYPE = 1        # the deck's type of the free grains (2: fixed grains)
 

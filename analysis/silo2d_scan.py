@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis import silo2d
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 
 PHI_BIN = 10.0
 RESAMPLES = 2000

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import dump_steps, iter_dump
+from analysis.common.lammps_io import dump_steps, iter_dump
 from analysis.silo3d_flow import BLOCKS, progress
 from analysis.silo3d_records import load_run, once_each, time_since_opening
 from analysis.silo3d_rotating import _figure, _save, write_table

@@ -6,15 +6,15 @@ stationary window (the orifice averages), per run and over seeds.
 
 Frames come from analysis.silo3d_records (record format:
 doc/silo3d_rotating_records.md); the coarse graining is
-analysis.coarse_grain (doc/coarse_graining.md).
+analysis.common.coarse_grain (doc/coarse_graining.md).
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from analysis import coarse_grain as cg
-from analysis.lammps_io import dump_steps, iter_dump
+from analysis.common import coarse_grain as cg
+from analysis.common.lammps_io import dump_steps, iter_dump
 from analysis.silo3d_flow import BLOCKS, CONFIDENCE, group_by_key, progress, seed_mean_ci
 from analysis.silo3d_records import DUMP_CUT, frames_with_contacts, read_dump_cut, time_since_opening
 

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import iter_dump
+from analysis.common.lammps_io import iter_dump
 from analysis.silo3d_acceleration import frame_spacing, in_window, window_frames
 from analysis.silo3d_fields import block_standard_error
 from analysis.silo3d_flow import progress

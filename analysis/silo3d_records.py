@@ -20,8 +20,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from analysis import coarse_grain as cg
-from analysis.lammps_io import iter_dump, read_table
+from analysis.common import coarse_grain as cg
+from analysis.common.lammps_io import iter_dump
+from analysis.common.tables import read_table
 
 if TYPE_CHECKING:                      # Run.flow's annotation only
     from analysis.silo3d_flow import FlowRate

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis import coarse_grain as cg
-from analysis.lammps_io import iter_dump
+from analysis.common import coarse_grain as cg
+from analysis.common.lammps_io import iter_dump
 from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
                                   beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups, last_exit,
@@ -43,7 +43,7 @@ def _number(value, digits):
 
 def write_table(path_stem, header, rows, title):
     """rows (lists of numbers) as `<stem>.txt` (a '#' header naming the
-    columns, for lammps_io.read_table) and `<stem>.md`."""
+    columns, for analysis.common.tables.read_table) and `<stem>.md`."""
     text = "# " + " ".join(header) + "\n" + "".join(
         " ".join(_number(v, 8) for v in row) + "\n" for row in rows)
     Path(f"{path_stem}.txt").write_text(text)

@@ -20,7 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.lammps_io import iter_dump, read_table
+from analysis.common.lammps_io import iter_dump
+from analysis.common.tables import read_table
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 

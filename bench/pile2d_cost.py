@@ -37,8 +37,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.lammps_io import read_dump  # noqa: E402
-from analysis.pile2d import read_discharges  # noqa: E402
+from analysis.common.lammps_io import read_dump  # noqa: E402
+from analysis.common.tables import read_rows  # noqa: E402
 
 INPUTS = benchlib.ROOT / "inputs"
 MODELS = ("none", "overlap", "depth", "fixed")
@@ -148,8 +148,8 @@ def measure_accuracy(fractions, seeds, length, widths, quick):
         out = benchlib.WORK / ("quick" if quick else "") / "pile2d_accuracy" / f"dt{fraction:g}"
         benchlib.progress(f"dt = t_c/{fraction:g}: {seeds} piles at L = {length:g} d, widths {widths}")
         cpu = run_driver(out, length, seeds, widths, fraction)
-        records = read_discharges(out / "discharges.txt")
-        piles = read_discharges(out / "piles.txt")
+        records = read_rows(out / "discharges.txt")
+        piles = read_rows(out / "piles.txt")
         row = {"fraction": fraction, "cpu": cpu, "piles": len(piles),
                "settled": sum(1 for p in piles if p["status"] == 1),
                "h0": mean_ci([p["h0"] for p in piles])}

@@ -35,8 +35,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.deck_blocks import granular_setup  # noqa: E402
-from analysis.lammps_io import read_dump, read_table  # noqa: E402
+from analysis.common.deck_blocks import granular_setup  # noqa: E402
+from analysis.common.lammps_io import read_dump  # noqa: E402
+from analysis.common.tables import read_table  # noqa: E402
 
 DT_FRACTIONS = [200, 100, 50, 20, 10]        # t_c / dt
 MODES = ["fixed", "overlap"]

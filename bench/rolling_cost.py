@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.deck_blocks import granular_setup  # noqa: E402
+from analysis.common.deck_blocks import granular_setup  # noqa: E402
 
 DIAMETER = 1.0e-3          # nominal disc diameter (m)
 POLYDISPERSITY = 0.05      # diameters uniform in d (1 +- 0.05)

@@ -42,7 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.lammps_io import read_table  # noqa: E402
+from analysis.common.tables import read_table  # noqa: E402
 from analysis import silo2d  # noqa: E402
 from analysis.silo2d import bulk_mask  # noqa: E402
 from analysis.silo2d_scan import PHI_BIN, phi_peak  # noqa: E402

@@ -41,7 +41,7 @@ import benchlib  # noqa: E402
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.silo3d_flow import analyse_flow  # noqa: E402
 from analysis.silo3d_records import load_run  # noqa: E402
-from analysis.stl import annulus_triangles, write_stl  # noqa: E402
+from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
 
 DECK = benchlib.ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
 INPUTS = benchlib.ROOT / "inputs"

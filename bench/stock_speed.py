@@ -47,7 +47,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.stl import annulus_triangles, write_stl  # noqa: E402
+from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
 
 INPUTS = benchlib.ROOT / "inputs"
 DEBIAN = "debian"
@@ -144,7 +144,7 @@ def pile_columns(quick, binary):
     """The L = 50 d pile of bench/pile2d_cost.py (fixed l_c, seed 15485863),
     built once with `binary` and cached under bench/work/."""
     import pile2d_cost  # scipy, analysis.pile2d: only when the scenes run
-    from analysis.lammps_io import read_dump
+    from analysis.common.lammps_io import read_dump
     pile = benchlib.WORK / "stock_speed" / ("pile_L30" if quick else "pile_L50")
     dump = pile / "pile.restart.dump"
     if not dump.exists():

@@ -15,8 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump, read_table, thermo_rows
+from analysis.common.deck_blocks import granular_setup, hooke_materials
+from analysis.common.lammps_io import read_dump, thermo_rows
+from analysis.common.tables import read_table
 from conftest import LiggghtsError, has_mpirun
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -1,4 +1,4 @@
-"""analysis.coarse_grain against values worked out by hand: kernel
+"""analysis.common.coarse_grain against values worked out by hand: kernel
 normalisation, the line integral of eq. 3 against brute-force quadrature,
 conservation of mass, momentum and the virial, a uniform lattice and a rigid
 rotation written by LIGGGHTS itself, kinetic stress of gases, orientation
@@ -15,9 +15,9 @@ from scipy import integrate
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from analysis import coarse_grain as cg  # noqa: E402
-from analysis.deck_blocks import granular_setup, hooke_materials  # noqa: E402
-from analysis.lammps_io import iter_dump  # noqa: E402
+from analysis.common import coarse_grain as cg  # noqa: E402
+from analysis.common.deck_blocks import granular_setup, hooke_materials  # noqa: E402
+from analysis.common.lammps_io import iter_dump  # noqa: E402
 from analysis.silo3d_records import frame_particles  # noqa: E402
 
 RHO = 620.0

@@ -49,8 +49,8 @@ import math
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump
-from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
+from analysis.common.lammps_io import read_dump
+from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pair
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

@@ -24,7 +24,7 @@ job, so every message checked here is one that reaches such a file.
 import pytest
 
 from conftest import LiggghtsError, has_mpirun, run_liggghts
-from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
+from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005
 OVERLAP = 1.0e-4

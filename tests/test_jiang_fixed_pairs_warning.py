@@ -12,7 +12,7 @@ a wall).
 
 import pytest
 
-from analysis.deck_blocks import per_pair
+from analysis.common.deck_blocks import per_pair
 from conftest import has_mpirun, run_liggghts
 from test_jiang_errors import deck
 

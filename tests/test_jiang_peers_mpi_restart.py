@@ -90,9 +90,9 @@ import math
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 from conftest import has_mpirun
-from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
+from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pair
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

@@ -1,6 +1,6 @@
-"""analysis.lammps_io.thermo_rows on hand-written screen output."""
+"""analysis.common.lammps_io.thermo_rows on hand-written screen output."""
 
-from analysis.lammps_io import thermo_rows
+from analysis.common.lammps_io import thermo_rows
 
 OUTPUT = """\
 Setting up run ...

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from analysis import pile2d
+from analysis.common.tables import read_rows
 from analysis import pile2d_driver
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -24,7 +25,7 @@ def test_read_discharges_skips_a_cut_line_and_keeps_the_model_name(tmp_path):
     path = tmp_path / "d.txt"
     path.write_text(HEADER + record("fixed", 50, 4.2, 15485863, 3.5)
                     + HEADER + record("none", 20, 1, 15485867, 0) + "overlap 20 1 1548")
-    rows = pile2d.read_discharges(path)
+    rows = read_rows(path)
     assert [r["model"] for r in rows] == ["fixed", "none"]
     assert rows[0]["w"] == 4.2 and rows[0]["h"] == 3.5 and rows[1]["seed"] == 15485867.0
 
@@ -278,7 +279,7 @@ def test_driver_rebuilds_the_recorded_pile_without_a_second_line(tmp_path, monke
     runner, seed = fake_record_without_restart(tmp_path, monkeypatch, n_pile=120)
     assert runner.run() == []
     assert runner.total == 2 and runner.done == 2
-    piles = pile2d_driver.read_rows(tmp_path / "piles.txt")
+    piles = read_rows(tmp_path / "piles.txt", text=True)
     assert [(row["seed"], row["n_pile"]) for row in piles] == [(str(seed), "120")]
     assert pile2d_driver.read_records(tmp_path / "discharges.txt", ("w",)) == {(3.0,), (4.0,)}
 
@@ -292,7 +293,7 @@ def test_driver_refuses_to_discharge_a_rebuilt_pile_that_is_not_the_recorded_one
     assert pile2d_driver.read_records(tmp_path / "discharges.txt", ("w",)) == {(3.0,)}
     restart = runner.restart_path("fixed", 20.0, seed)
     assert not restart.exists() and restart.with_name(restart.name + ".differs").exists()
-    assert len(pile2d_driver.read_rows(tmp_path / "piles.txt")) == 1
+    assert len(read_rows(tmp_path / "piles.txt", text=True)) == 1
     assert pile2d_driver.rebuilt_pile_problem({"n_pile": "5", "h0": "1.5"},
                                               {"n_pile": "5", "h0": "1.5"}) is None
 

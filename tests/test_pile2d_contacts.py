@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump
-from analysis.pile2d import read_discharges
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_rows
 from analysis.pile2d_driver import prime_seeds
 from conftest import has_mpirun, run_liggghts
 
@@ -36,7 +36,7 @@ def build(workdir, model="fixed", seed=SEED, nprocs=1, **variables):
                  variables={"quick": 1, "model": model, "seed": seed, "inputs": INPUTS,
                             "pile": "pile.restart", "piles": "piles.txt", "final_dump": 1,
                             **variables})
-    return read_discharges(Path(workdir) / "piles.txt")[-1]
+    return read_rows(Path(workdir) / "piles.txt")[-1]
 
 
 def discharge(workdir, pile_dir, w, model="fixed", seed=SEED, nprocs=1, **variables):
@@ -44,7 +44,7 @@ def discharge(workdir, pile_dir, w, model="fixed", seed=SEED, nprocs=1, **variab
                  variables={"quick": 1, "model": model, "seed": seed, "inputs": INPUTS, "w": w,
                             "pile": Path(pile_dir) / "pile.restart",
                             "results": "discharges.txt", "final_dump": 1, **variables})
-    return read_discharges(Path(workdir) / "discharges.txt")[-1]
+    return read_rows(Path(workdir) / "discharges.txt")[-1]
 
 
 def surface_height(columns):
@@ -243,7 +243,7 @@ def test_pile_declared_in_equilibrium_stays_when_run_on(quick_pile, tmp_path):
     run_liggghts(deck("in.runon"), tmp_path, timeout=900,
                  variables={"model": pile["model"], "L": L, "seed": SEED, "inputs": INPUTS,
                             "pile": pile_dir / "pile.restart", "time": time, "runon": "runon.txt"})
-    record = read_discharges(tmp_path / "runon.txt")[-1]
+    record = read_rows(tmp_path / "runon.txt")[-1]
     assert record["time"] == pytest.approx(time, rel=1e-6)
     assert record["n_before"] == pile["n_pile"] == record["n_after"]
     assert record["h0_before"] == pytest.approx(pile["h0"], abs=1e-9)

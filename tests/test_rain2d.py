@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump, thermo_rows
+from analysis.common.deck_blocks import granular_setup, hooke_materials
+from analysis.common.lammps_io import read_dump, thermo_rows
 from conftest import LiggghtsError, has_mpirun
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

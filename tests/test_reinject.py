@@ -14,8 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump, read_table, thermo_rows
+from analysis.common.deck_blocks import granular_setup, hooke_materials
+from analysis.common.lammps_io import read_dump, thermo_rows
+from analysis.common.tables import read_table
 from conftest import LiggghtsError, has_mpirun
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 from conftest import has_mpirun, run_liggghts
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -114,7 +114,7 @@ def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
     output = run_quick_deck(tmp_path, stop_at_first=1)
     assert "silo2d: done after 1 clogs" in output
     clogs, arches, _ = check_records(tmp_path)
-    from analysis.lammps_io import read_dump
+    from analysis.common.lammps_io import read_dump
     _, grains = read_dump(tmp_path / "clog_state.dump")[-1]
     assert grains["id"].size == N_TOTAL
     where = {int(i): (x, z) for i, x, z in zip(grains["id"], grains["x"], grains["z"])}
@@ -163,7 +163,7 @@ write_dump all custom after.dump id x z
     output = run_liggghts(deck, tmp_path, timeout=900)
     outs = [line.split(":")[1].strip() for line in output.splitlines() if line.startswith("grains out")]
     assert len(outs) == 2 and outs[0] == outs[1]
-    from analysis.lammps_io import read_dump
+    from analysis.common.lammps_io import read_dump
     before, after = (read_dump(tmp_path / name)[-1][1] for name in ("at_clog.dump", "after.dump"))
     start = {int(i): (x, z) for i, x, z in zip(before["id"], before["x"], before["z"])}
     free = np.abs(before["x"]) < 6 * D          # inside the side walls of the quick silo

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from analysis import silo2d_driver
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 
 ROOT = Path(__file__).resolve().parent.parent
 RECORDS = ("clogs.txt", "arches.txt", "feet.txt", "contacts.txt", "reinject.txt")

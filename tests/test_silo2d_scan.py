@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from analysis import silo2d_scan
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 from test_silo2d_analysis import write_feet, write_records, write_table
 
 ROOT = Path(__file__).resolve().parent.parent

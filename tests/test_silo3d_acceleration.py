@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from analysis import silo3d_acceleration as acc
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 from analysis.silo3d_records import load_run
 from test_silo3d_rotating_deck import quick_deck
 

@@ -14,7 +14,7 @@ import numpy as np
 from analysis import checkpoint, silo3d_carry
 from analysis import silo3d_campaign
 from analysis import silo3d_rotating as silo
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 from test_silo3d_rotating_analysis import DT, T_OPEN, write_run
 
 SCREEN = "Loop time of 360 on 1 procs for 500 steps with 100 atoms\n"

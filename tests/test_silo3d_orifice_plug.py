@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from analysis import silo3d_orifice_plug as plug
-from analysis.lammps_io import read_table
+from analysis.common.tables import read_table
 from test_silo3d_acceleration import D, dump_frame, write_run_records
 
 DT = 1e-5

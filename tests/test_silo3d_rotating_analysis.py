@@ -17,11 +17,12 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from analysis import coarse_grain as cg  # noqa: E402
+from analysis.common import coarse_grain as cg  # noqa: E402
 from analysis import silo3d_flow, silo3d_records  # noqa: E402
 from analysis import silo3d_rotating as silo  # noqa: E402
-from analysis.deck_blocks import granular_setup, hooke_materials  # noqa: E402
-from analysis.lammps_io import dump_steps, iter_dump, read_table  # noqa: E402
+from analysis.common.deck_blocks import granular_setup, hooke_materials  # noqa: E402
+from analysis.common.lammps_io import dump_steps, iter_dump  # noqa: E402
+from analysis.common.tables import read_table
 
 KN = 1000.0
 RHO = 620.0

@@ -26,7 +26,8 @@ import pytest
 
 from analysis import checkpoint, silo3d_carry
 from analysis import silo3d_rotating as silo
-from analysis.lammps_io import read_dump, read_table
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_table
 from analysis.silo3d_records import DumpCut, read_dump_cut, read_run_info
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 

@@ -22,7 +22,8 @@ import re
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump, read_table
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_table
 from analysis.silo3d_flow import stationary_flow_rate
 from analysis.silo3d_records import read_run_info
 from conftest import ROOT, LiggghtsError, has_mpirun

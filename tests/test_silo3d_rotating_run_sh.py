@@ -14,7 +14,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump, read_table
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_table
 from analysis.silo3d_records import read_run_info
 from conftest import LIGGGHTS, ROOT
 

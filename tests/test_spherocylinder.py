@@ -18,8 +18,8 @@ import math
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import hooke_materials
-from analysis.lammps_io import read_dump
+from analysis.common.deck_blocks import hooke_materials
+from analysis.common.lammps_io import read_dump
 from conftest import LiggghtsError, has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

@@ -9,7 +9,7 @@ geometry), and against the same runs with prune_list no."""
 
 import numpy as np
 
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 from conftest import run_liggghts
 from test_spherocylinder import D, HALF_SEGMENT, LENGTH, SKIN, gas_deck, rod_contacts, rod_deck, rod_system
 import pytest

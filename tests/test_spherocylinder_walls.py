@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 from conftest import has_mpirun, run_liggghts
 from test_spherocylinder import D, KN, RADIUS, ROD_MODEL, rod_contacts, rod_lines, rod_system, solid_rod
 

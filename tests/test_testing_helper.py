@@ -8,7 +8,7 @@ import pytest
 
 from analysis.testing import (Frame, LiggghtsError, assert_dumps_close, assert_thermo_close,
                               read_frame, read_frames, read_record, read_thermo, run_deck)
-from analysis.deck_blocks import granular_setup, hooke_materials
+from analysis.common.deck_blocks import granular_setup, hooke_materials
 
 
 def write_dump(path, frames, names=("id", "type", "x", "y", "z", "vx")):

@@ -33,9 +33,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import granular_setup, hooke_materials
-from analysis.lammps_io import read_dump
-from analysis.stl import annulus_triangles, write_stl
+from analysis.common.deck_blocks import granular_setup, hooke_materials
+from analysis.common.lammps_io import read_dump
+from analysis.common.stl import annulus_triangles, write_stl
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

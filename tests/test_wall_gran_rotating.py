@@ -29,9 +29,10 @@ import math
 import numpy as np
 import pytest
 
-from analysis.deck_blocks import granular_setup, hooke_materials, per_pair
-from analysis.lammps_io import read_dump, read_table
-from analysis.stl import annulus_triangles, write_stl
+from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pair
+from analysis.common.lammps_io import read_dump
+from analysis.common.tables import read_table
+from analysis.common.stl import annulus_triangles, write_stl
 from conftest import LiggghtsError, has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

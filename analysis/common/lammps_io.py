@@ -1,9 +1,8 @@
-"""Readers for LIGGGHTS text output: `dump custom` / `dump local` files,
-`fix print` / `fix ave/time` style tables with a `#` header, and the
-thermo table of a run's screen output."""
+"""Readers for LIGGGHTS text output: `dump custom` / `dump local` files
+and the thermo table of a run's screen output. Tables with a `#` header
+(`fix print`, `fix ave/time`, our records) are read by analysis.common.tables."""
 
 import itertools
-import lzma
 
 import numpy as np
 
@@ -61,32 +60,6 @@ def dump_steps(path):
             for _ in itertools.islice(handle, header[1]):
                 pass
     return np.array(steps, dtype=np.int64)
-
-
-def read_table(path, required=()):
-    """A whitespace-separated table whose last `#` comment line before the
-    data names the columns; returns a dict name -> numpy array. A path
-    ending in .xz is read through lzma (the compressed records of doc/data).
-    Columns of `required` that the table lacks are an error naming the file."""
-    names = None
-    rows = []
-    opener = lzma.open if str(path).endswith(".xz") else open
-    with opener(path, "rt") as handle:
-        for line in handle:
-            stripped = line.strip()
-            if not stripped:
-                continue
-            if stripped.startswith("#"):
-                names = stripped.lstrip("#").split()
-                continue
-            rows.append([float(value) for value in stripped.split()])
-    if names is None:
-        raise ValueError(f"{path}: no '#' header line naming the columns")
-    missing = [name for name in required if name not in names]
-    if missing:
-        raise ValueError(f"{path}: missing columns {missing}")
-    data = np.array(rows, dtype=float).reshape(len(rows), len(names))
-    return {name: data[:, i] for i, name in enumerate(names)}
 
 
 def thermo_rows(output, columns):

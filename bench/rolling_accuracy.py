@@ -33,6 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
+import core_geometry  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.deck_blocks import granular_setup  # noqa: E402
@@ -82,11 +83,6 @@ def rolling_keywords(mode, damping=False):
     return words
 
 
-def chord(radius_i, radius_j, distance):
-    x = (distance ** 2 + radius_i ** 2 - radius_j ** 2) / (2 * distance)
-    return 2 * math.sqrt(radius_i ** 2 - x ** 2)
-
-
 RECORD = "  # record"
 
 
@@ -111,7 +107,7 @@ def held_pair(mode, fraction, workdir):
     t_c = contact_time(SPHERE_MASS / 2)
     dt = t_c / fraction
     elastic_force = KN * (DIAMETER - HELD_DISTANCE)
-    length = FIXED_LENGTH if mode == "fixed" else chord(RADIUS, RADIUS, HELD_DISTANCE)
+    length = FIXED_LENGTH if mode == "fixed" else core_geometry.overlap_chord(RADIUS, RADIUS, HELD_DISTANCE)
     stiffness = KN * length ** 2
     cap = MU * length * elastic_force
     rate = 2 * HELD_OMEGA
@@ -227,7 +223,7 @@ run 0
     mass = grains["mass"][1]
     # lever arm of the tangential force: LIGGGHTS' contact radius r_i - delta_n/2
     lever = radius_top - 0.5 * (radius_top + radius_base - distance)
-    length = FIXED_LENGTH if mode == "fixed" else chord(radius_top, radius_base, distance)
+    length = FIXED_LENGTH if mode == "fixed" else core_geometry.overlap_chord(radius_top, radius_base, distance)
     # columns: id1 id2 periodic flag, then the history: 3 values of the
     # tangential spring, then jiang's rolling angle (x y z), then what
     # follows it; in 2D the angle lies along z
@@ -259,8 +255,7 @@ def rolling_expectation(mode):
     and the radius in the contact's sliding velocity v - omega r_c."""
     overlap = SPHERE_MASS * GRAVITY / KN
     lever = RADIUS - overlap / 2
-    length = FIXED_LENGTH if mode == "fixed" else \
-        2 * math.sqrt(overlap * (2 * RADIUS - overlap))
+    length = FIXED_LENGTH if mode == "fixed" else core_geometry.wall_chord(RADIUS, overlap)
     moment = MU * length * SPHERE_MASS * GRAVITY
     inertia = 0.4 * SPHERE_MASS * RADIUS ** 2
     deceleration = moment / (lever * (SPHERE_MASS + inertia / lever ** 2))

@@ -13,8 +13,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 import benchlib
-import rod_geometry
-from analysis.common.lammps_io import read_dump
+import core_geometry
+from analysis.lammps_io import read_dump
 
 # ---- the grains and their contact law (inputs/silo3d_rotating/in.silo3d_rotating) ----
 
@@ -53,7 +53,7 @@ class Grains:
 
     def __init__(self, clump_spheres):
         self.rod_d = LENGTH / ASPECT
-        self.rod_mass, self.rod_axial, self.rod_transverse = rod_geometry.solid_rod(self.rod_d, LENGTH, RHO)
+        self.rod_mass, self.rod_axial, self.rod_transverse = core_geometry.solid_rod(self.rod_d, LENGTH, RHO)
         self.rod_law = silbert_law(self.rod_mass, self.rod_d)
         self.sphere_mass = RHO * math.pi * SPHERE_D ** 3 / 6
         self.sphere_law = silbert_law(self.sphere_mass, SPHERE_D)
@@ -280,7 +280,7 @@ thermo_modify lost ignore norm no
         return self.measure_deck(0, extra=extra)
 
 
-# ---- contacts from the geometry (rods: the core header, rod_geometry.py) ----------
+# ---- contacts from the geometry (rods: the core header, core_geometry.py) ----------
 
 def count_contacts(bed, dump_path):
     """Pair counts per particle at the start of the window: `broad` pairs
@@ -294,7 +294,7 @@ def count_contacts(bed, dump_path):
         half_core = (LENGTH - bed.grains.rod_d) / 2
         pairs = np.array(sorted(cKDTree(x).query_pairs(LENGTH)), dtype=int).reshape(-1, 2)
         i, j = pairs[:, 0], pairs[:, 1]
-        touching = rod_geometry.rods_touching(x[i], axis[i], x[j], axis[j], half_core, bed.grains.rod_d / 2)
+        touching = core_geometry.rods_touching(x[i], axis[i], x[j], axis[j], half_core, bed.grains.rod_d / 2)
         return {"broad": len(pairs) / bed.count, "contacts": int(np.sum(touching)) / bed.count}
     radius = c["radius"]
     pairs = np.array(sorted(cKDTree(x).query_pairs(2 * radius.max())), dtype=int).reshape(-1, 2)

@@ -43,7 +43,7 @@ end on the floor, two rods crossing at their ends; doc/spherocylinder.md,
 
 The pieces: the grains, decks and contact counts in
 spherocylinder_beds.py (the rods' geometry from the core header, through
-rod_geometry.py), callgrind in callgrind.py, the page's sections in
+core_geometry.py), callgrind in callgrind.py, the page's sections in
 spherocylinder_report.py.
 
 Writes bench/results/spherocylinder_cost.txt and its section of

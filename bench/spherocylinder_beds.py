@@ -14,7 +14,7 @@ from scipy.spatial import cKDTree
 
 import benchlib
 import core_geometry
-from analysis.lammps_io import read_dump
+from analysis.common.lammps_io import read_dump
 
 # ---- the grains and their contact law (inputs/silo3d_rotating/in.silo3d_rotating) ----
 

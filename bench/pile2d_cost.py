@@ -23,14 +23,12 @@ bench/results/pile2d_cost.txt.
 """
 
 import argparse
-import math
 import resource
 import statistics
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 from scipy import stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -40,7 +38,7 @@ sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.lammps_io import read_dump  # noqa: E402
 from analysis.common.tables import read_rows  # noqa: E402
 
-INPUTS = benchlib.ROOT / "inputs"
+INPUTS = benchlib.INPUTS
 MODELS = ("none", "overlap", "depth", "fixed")
 SEED = 15485863
 
@@ -136,12 +134,6 @@ def proportion_ci(successes, n, level=0.95):
     return lo, hi
 
 
-def mean_ci(values, level=0.95):
-    values = np.asarray(values, dtype=float)
-    half = stats.t.ppf(0.5 + level / 2, values.size - 1) * values.std(ddof=1) / math.sqrt(values.size)
-    return float(values.mean()), float(half)
-
-
 def measure_accuracy(fractions, seeds, length, widths, quick):
     rows = []
     for fraction in fractions:
@@ -152,11 +144,11 @@ def measure_accuracy(fractions, seeds, length, widths, quick):
         piles = read_rows(out / "piles.txt")
         row = {"fraction": fraction, "cpu": cpu, "piles": len(piles),
                "settled": sum(1 for p in piles if p["status"] == 1),
-               "h0": mean_ci([p["h0"] for p in piles])}
+               "h0": benchlib.mean_ci([p["h0"] for p in piles])}
         for w in widths:
             h = [r["h"] for r in records if abs(r["w"] - w) < 1e-6]
             jammed = sum(1 for value in h if value > 0)
-            row[w] = {"n": len(h), "mean": mean_ci(h), "jam": jammed / len(h),
+            row[w] = {"n": len(h), "mean": benchlib.mean_ci(h), "jam": jammed / len(h),
                       "jam_ci": proportion_ci(jammed, len(h))}
         rows.append(row)
     return rows

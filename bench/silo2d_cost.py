@@ -47,8 +47,6 @@ from analysis import silo2d  # noqa: E402
 from analysis.silo2d import bulk_mask  # noqa: E402
 from analysis.silo2d_scan import PHI_BIN, phi_peak  # noqa: E402
 
-DECK = benchlib.ROOT / "inputs" / "silo2d" / "in.silo2d"
-INPUTS = benchlib.ROOT / "inputs"
 D = 1.0 / 32
 T_CONTACT = 2.4458e-4           # contact time of the deck's normal contact (s)
 BULK_WINDOW = (8.0, 14.0)       # h/d, the small silo's bulk
@@ -56,9 +54,7 @@ BULK_WINDOW = (8.0, 14.0)       # h/d, the small silo's bulk
 
 def deck(variables):
     """The production deck, with index variables set ahead of it."""
-    lines = [f"variable {name} index {value}" for name, value in variables.items()]
-    lines += [f"variable inputs index {INPUTS}", f"include {DECK}"]
-    return "\n".join(lines) + "\n"
+    return benchlib.scene_deck("silo2d", variables)
 
 
 def metrics(run_dir, simulated_time, rng):

@@ -33,7 +33,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
@@ -43,8 +42,6 @@ from analysis.silo3d_flow import analyse_flow  # noqa: E402
 from analysis.silo3d_records import load_run  # noqa: E402
 from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
 
-DECK = benchlib.ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
-INPUTS = benchlib.ROOT / "inputs"
 T_CONTACT = 1.5797e-4        # s, the deck's grain-grain contact time
 D = 0.06
 F = 0.32
@@ -52,9 +49,8 @@ SILO_DIAMETER = 0.19
 
 
 def deck(variables):
-    lines = [f"variable {name} index {value}" for name, value in variables.items()]
-    lines += [f"variable inputs index {INPUTS}", f"include {DECK}"]
-    return "\n".join(lines) + "\n"
+    """The production deck, with index variables set ahead of it."""
+    return benchlib.scene_deck("silo3d_rotating", variables)
 
 
 def packing(work, dt_fraction, quick):
@@ -133,11 +129,9 @@ def measure_accuracy(work, fractions, seeds, flow_time, transient):
             simulated += 0.4 + flow_time
             benchlib.progress(f"accuracy, dt = t_c/{fraction}, seed {seed}: Q = {flow.q_mass:.4f} "
                               f"+- {flow.q_mass_se:.4f} kg/s, {result['cpu']:.0f} s CPU")
-        qs = np.array(qs)
-        half = (stats.t.ppf(0.975, len(qs) - 1) * qs.std(ddof=1) / math.sqrt(len(qs))
-                if len(qs) > 1 else math.nan)
-        rows.append({"fraction": fraction, "dt": T_CONTACT / fraction, "Q": qs.mean(), "Q_ci": half,
-                     "Q_all": qs.tolist(), "cpu_per_s": cpu / simulated})
+        mean, half = benchlib.mean_ci(qs)
+        rows.append({"fraction": fraction, "dt": T_CONTACT / fraction, "Q": mean, "Q_ci": half,
+                     "Q_all": qs, "cpu_per_s": cpu / simulated})
     return rows
 
 

@@ -49,7 +49,7 @@ import benchlib  # noqa: E402
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
 
-INPUTS = benchlib.ROOT / "inputs"
+INPUTS = benchlib.INPUTS
 DEBIAN = "debian"
 
 
@@ -112,17 +112,13 @@ run {steps}
 def silo3d_deck(variables):
     """inputs/silo3d_rotating in its quick variant (Dc = 12 d, 900 spheres,
     orifice 5 d) with index variables set ahead of it."""
-    lines = [f"variable {name} index {value}" for name, value in variables.items()]
-    lines += ["variable quick index 1", f"variable inputs index {INPUTS}",
-              f"include {INPUTS / 'silo3d_rotating' / 'in.silo3d_rotating'}"]
-    return "\n".join(lines) + "\n"
+    return benchlib.scene_deck("silo3d_rotating", {**variables, "quick": 1})
 
 
 def silo2d_deck():
     """inputs/silo2d in its quick variant (12 d wide, 230 grains) until its
     third arch (the deck's quick default)."""
-    return (f"variable quick index 1\nvariable inputs index {INPUTS}\n"
-            f"include {INPUTS / 'silo2d' / 'in.silo2d'}\n")
+    return benchlib.scene_deck("silo2d", {"quick": 1})
 
 
 class Deck:

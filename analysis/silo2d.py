@@ -334,7 +334,7 @@ def read_records(record_dir):
     for name, columns in REQUIRED_COLUMNS.items():
         path = record_dir / name
         if not path.exists() and (record_dir / (name + ".xz")).exists():
-            path = record_dir / (name + ".xz")     # an archive (analysis.silo2d_archive)
+            path = record_dir / (name + ".xz")     # an archive (analysis.campaign.silo2d_archive)
         tables[name.split(".")[0]] = read_table(path, required=columns)
     return tables
 

@@ -68,7 +68,7 @@ def load_run(record_dir, d_default=1.0 / 32):
     geometry.setdefault("mass", geometry["rho"] * np.pi * geometry["d"] ** 3 / 6)
     contacts = tables["contacts"]
     bulk = silo2d.bulk_mask(contacts["x"], contacts["z"], geometry["d"])
-    # an archive (analysis.silo2d_archive) keeps the profiles as sums and
+    # an archive (analysis.campaign.silo2d_archive) keeps the profiles as sums and
     # the surfaces, which need every contact
     profiles = record_dir / "profiles.txt"
     if (record_dir / "surfaces.txt").exists():

@@ -17,7 +17,7 @@ bench/results/silo3d_rotating_cost.txt.
    is read from the packing).
 2. Flow-rate agreement, ours against the mesh peer: the same packing, D and
    f, run --flow-time seconds each; stationary Q after --transient, with
-   block standard errors (analysis/silo3d_flow.py).
+   block standard errors (analysis/silo3d_rotating/flow.py).
 3. Accuracy against cost: the quick silo (Dc = 12 d, 900 spheres, D = 5 d,
    f = 0.32 Hz, reinjection) at dt = t_c/158 (the paper's 1e-6 s), t_c/80,
    t_c/40, t_c/20, --seeds gas seeds each: stationary Q with its 95 % CI
@@ -38,8 +38,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
-from analysis.silo3d_flow import analyse_flow  # noqa: E402
-from analysis.silo3d_records import load_run  # noqa: E402
+from analysis.silo3d_rotating.flow import analyse_flow  # noqa: E402
+from analysis.silo3d_rotating.records import load_run  # noqa: E402
 from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
 
 T_CONTACT = 1.5797e-4        # s, the deck's grain-grain contact time
@@ -54,15 +54,18 @@ def deck(variables):
 
 
 def packing(work, dt_fraction, quick):
-    """The settled paper's silo, made once per dt."""
+    """The settled paper's silo, made once per dt (--quick: 2000 grains);
+    returns the deck variables of a run that starts from it."""
     path = work / f"packing_dt{dt_fraction}" / "packing.restart"
+    grains = {"N": 2000} if quick else {}      # the deck checks that the packing holds N
     if not path.exists():
-        benchlib.progress(f"settling the paper's silo (10000 grains, dt t_c/{dt_fraction}), once")
+        benchlib.progress(f"settling the paper's silo ({grains.get('N', 10000)} grains, "
+                          f"dt t_c/{dt_fraction}), once")
         variables = {"dt_fraction": dt_fraction, "write_packing": 1, "discharge_time": 0}
         if quick:
-            variables.update({"N": 2000, "settle_time": 0.3})
+            variables.update({**grains, "settle_time": 0.3})
         benchlib.run_deck(deck(variables), path.parent)
-    return path
+    return {"read_packing": 1, "packing": path, **grains}
 
 
 def cost_variants(stl):
@@ -83,11 +86,11 @@ def discharge_cost(result):
     return 1e3 * seconds / steps, steps
 
 
-def measure_costs(work, packing_path, stl, repetitions, flow_time, dt_fraction):
+def measure_costs(work, packed, stl, repetitions, flow_time, dt_fraction):
     times = {name: [] for name in cost_variants(stl)}
     for rep in range(repetitions):
         for name, extra in cost_variants(stl).items():
-            variables = {"dt_fraction": dt_fraction, "read_packing": 1, "packing": packing_path,
+            variables = {"dt_fraction": dt_fraction, **packed,
                          "reinject": 1, "discharge_time": flow_time, **extra}
             result = benchlib.run_deck(deck(variables), work / "cost" / f"{name}_{rep}")
             ms, steps = discharge_cost(result)
@@ -101,11 +104,11 @@ def flow_rate_of(run_dir, transient):
     return analyse_flow(run, transient=transient)
 
 
-def measure_agreement(work, packing_path, stl, flow_time, transient, dt_fraction):
+def measure_agreement(work, packed, stl, flow_time, transient, dt_fraction):
     flows = {}
     for name in ("ours", "mesh"):
         extra = cost_variants(stl)[name]
-        variables = {"dt_fraction": dt_fraction, "read_packing": 1, "packing": packing_path,
+        variables = {"dt_fraction": dt_fraction, **packed,
                      "reinject": 1, "discharge_time": flow_time, **extra}
         benchlib.progress(f"flow rate, {name}: {flow_time:g} s of discharge")
         result = benchlib.run_deck(deck(variables), work / "agreement" / name)
@@ -219,9 +222,9 @@ def main():
     stl.parent.mkdir(parents=True, exist_ok=True)
     write_stl(stl, annulus_triangles(D / 2, SILO_DIAMETER / 2))
 
-    packing_path = packing(work, args.dt_fraction, args.quick)
-    costs = measure_costs(work, packing_path, stl, args.repetitions, args.cost_time, args.dt_fraction)
-    flows = measure_agreement(work, packing_path, stl, args.flow_time, args.transient, args.dt_fraction)
+    packed = packing(work, args.dt_fraction, args.quick)
+    costs = measure_costs(work, packed, stl, args.repetitions, args.cost_time, args.dt_fraction)
+    flows = measure_agreement(work, packed, stl, args.flow_time, args.transient, args.dt_fraction)
     accuracy = measure_accuracy(work, args.fractions, args.seeds, args.accuracy_time, args.transient)
     text = report(costs, flows, accuracy, args)
     report_path.parent.mkdir(parents=True, exist_ok=True)

@@ -18,7 +18,7 @@ sys.path.insert(0, str(ROOT))
 from analysis.common import coarse_grain as cg  # noqa: E402
 from analysis.common.deck_blocks import granular_setup, hooke_materials  # noqa: E402
 from analysis.common.lammps_io import iter_dump  # noqa: E402
-from analysis.silo3d_records import frame_particles  # noqa: E402
+from analysis.silo3d_rotating.records import frame_particles  # noqa: E402
 
 RHO = 620.0
 

@@ -7,7 +7,7 @@ again) and skips the archived runs."""
 import os
 import subprocess
 
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_rotating.records import read_run_info
 from conftest import LIGGGHTS, ROOT
 import pytest
 

@@ -91,7 +91,8 @@ def test_an_archive_gives_the_scan_of_its_run(tmp_path):
     """A run of two clogs with contacts inside and outside the bulk window:
     its archive keeps only the bulk rows (compressed) and the profiles as
     sums, and the scan table and Fig. 4 data come out the same."""
-    from analysis import silo2d, silo2d_archive
+    from analysis import silo2d
+    from analysis.campaign import silo2d_archive
     run = tmp_path / "run"
     run.mkdir()
     write_records(run)

@@ -1,4 +1,4 @@
-"""The vertical acceleration along the silo's axis (analysis.silo3d_acceleration,
+"""The vertical acceleration along the silo's axis (analysis.silo3d_rotating.acceleration,
 the paper's Fig. 10): on hand-built dumps of grains at a constant
 acceleration it is that acceleration in every bin, with a grain that the
 deck moved (reinjection), a grain outside the cylinder and a frame
@@ -10,9 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from analysis import silo3d_acceleration as acc
+from analysis.silo3d_rotating import acceleration as acc
 from analysis.common.tables import read_table
-from analysis.silo3d_records import load_run
+from analysis.silo3d_rotating.records import load_run
 from test_silo3d_rotating_deck import quick_deck
 
 DT = 1e-5

@@ -1,4 +1,4 @@
-"""analysis.silo3d_archive: a finished run reduced to the records that stay
+"""analysis.campaign.silo3d_archive: a finished run reduced to the records that stay
 in doc/data. The archive holds the run's records, and its orifice table
 and fields from an analysis of the whole run; no dump, checkpoint or
 restart. Restored, it gives the flow rate of the full run directory, every
@@ -9,9 +9,10 @@ import lzma
 
 import numpy as np
 
-from analysis import checkpoint, silo3d_archive
-from analysis import silo3d_rotating as silo
-from analysis.silo3d_maps import mean_fields
+from analysis.campaign import checkpoint
+from analysis.campaign import silo3d_archive
+from analysis.silo3d_rotating import analyse as silo
+from analysis.silo3d_rotating.maps import mean_fields
 from test_silo3d_rotating_analysis import write_run
 
 REINJECT = "# step t n_out mass_out avalanche\n100 0.1 1 0.001 1\n200 0.2 3 0.003 3\n"

@@ -1,7 +1,7 @@
-"""analysis.silo3d_campaign: how far each run of a campaign has got and
+"""analysis.campaign.silo3d_status: how far each run of a campaign has got and
 what it cost, from hand-made records, by hand."""
 
-from analysis import silo3d_campaign
+from analysis.campaign import silo3d_status
 
 RUN_TXT = "# run\nd 0.006\nf {f}\nD 0.06\nseed {seed}\ndt 0.001\ndischarge_time 4.0\ndischarge_time {length}\n"
 
@@ -29,13 +29,13 @@ def test_progress_cost_and_what_is_left_by_hand(tmp_path, capsys):
     write_run(campaign / "D0.06_f0.16_s1", 0.16, 1, 8.0, 2.0, [(1800, 1, 1000), (1800, 1, 1000)])
     write_run(campaign / "D0.06_f0_s1", 0.0, 1, 1.0, 1.0, [(900, 2, 1000)], finished=True)
     (campaign / "packing_s1").mkdir()
-    rows = {r["run"]: r for r in map(silo3d_campaign.run_status, silo3d_campaign.run_dirs([campaign]))}
+    rows = {r["run"]: r for r in map(silo3d_status.run_status, silo3d_status.run_dirs([campaign]))}
     assert sorted(rows) == ["D0.06_f0.16_s1", "D0.06_f0_s1"]
     turning, rest = rows["D0.06_f0.16_s1"], rows["D0.06_f0_s1"]
     assert turning["t"] == 2.0 and turning["length"] == 8.0 and not turning["finished"]
     assert turning["cpu_hours"] == 1.0 and turning["per_second"] == 0.5 and turning["left"] == 3.0
     assert rest["finished"] and rest["cpu_hours"] == 0.5 and rest["per_second"] == 0.5 and rest["left"] == 0.0
-    assert silo3d_campaign.main([str(campaign)]) == 0
+    assert silo3d_status.main([str(campaign)]) == 0
     out = capsys.readouterr().out
     assert "| D0.06_f0.16_s1 | 0.16 | 0.06 | 1 | 2.00 / 8 | at 2.00 s | 1.00 | 0.50 | 3.00 |" in out
     assert "1 of 2 runs finished; 1.5 loop hours spent, 3.0 left" in out
@@ -44,10 +44,10 @@ def test_progress_cost_and_what_is_left_by_hand(tmp_path, capsys):
     write_run(campaign / "D0.06_f0_s2", 0.0, 2, 8.0, 1.5, [(900, 1, 1000)], finished=True)
     with open(campaign / "D0.06_f0_s2" / "run.txt", "a") as run_txt:
         run_txt.write("clogged 1.5\nfinished 1.5\n")
-    clogged = silo3d_campaign.run_status(campaign / "D0.06_f0_s2")
+    clogged = silo3d_status.run_status(campaign / "D0.06_f0_s2")
     assert clogged["clogged"] == 1.5 and clogged["left"] == 0.0 and rest["clogged"] is None
-    assert silo3d_campaign.main([str(campaign)]) == 0
+    assert silo3d_status.main([str(campaign)]) == 0
     assert "| D0.06_f0_s2 | 0 | 0.06 | 2 | 1.50 / 8 | finished, clogged (stopped at 1.50 s) |" in capsys.readouterr().out
     # a run directory given itself; nothing to show is an error
-    assert silo3d_campaign.run_dirs([campaign / "D0.06_f0_s1"]) == [campaign / "D0.06_f0_s1"]
-    assert silo3d_campaign.main([str(tmp_path / "empty")]) == 2
+    assert silo3d_status.run_dirs([campaign / "D0.06_f0_s1"]) == [campaign / "D0.06_f0_s1"]
+    assert silo3d_status.main([str(tmp_path / "empty")]) == 2

@@ -1,4 +1,4 @@
-"""analysis.silo3d_carry: a campaign carried from one machine to the next
+"""analysis.campaign.silo3d_carry: a campaign carried from one machine to the next
 through a store directory (finished runs, reduced) and a carry directory
 (unfinished runs' checkpoints). On hand-made run directories: the finished
 run is stored as its records, orifice table, fields and cost, without a
@@ -11,9 +11,10 @@ import lzma
 
 import numpy as np
 
-from analysis import checkpoint, silo3d_carry
-from analysis import silo3d_campaign
-from analysis import silo3d_rotating as silo
+from analysis.campaign import checkpoint
+from analysis.campaign import silo3d_carry
+from analysis.campaign import silo3d_status
+from analysis.silo3d_rotating import analyse as silo
 from analysis.common.lammps_io import read_dump
 from test_silo3d_rotating_analysis import DT, T_OPEN, write_run
 
@@ -101,7 +102,7 @@ def test_a_carried_campaign_skips_its_finished_run_and_resumes_the_other_where_i
                                           before=checkpoint_step)
     # both keep their cost: the campaign's table reads the same loop hours
     for run in (finished, stopped):
-        assert silo3d_campaign.run_status(again / run.name)["cpu_hours"] == 0.1
+        assert silo3d_status.run_status(again / run.name)["cpu_hours"] == 0.1
 
     # keeping the second machine's campaign: the restored archive is left
     # alone, the unfinished run carried again; once it has finished, it is

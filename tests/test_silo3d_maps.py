@@ -1,14 +1,14 @@
-"""analysis.silo3d_maps: the mean of a run's map windows, weighted by
+"""analysis.silo3d_rotating.maps: the mean of a run's map windows, weighted by
 their frames, by hand; runs side by side; what a run lacks is refused."""
 
 import numpy as np
 import pytest
 
-from analysis import silo3d_maps
+from analysis.silo3d_rotating import maps as silo3d_maps
 
 
 def write_fields(path, phi_per_window, frames, orientation=True, cells=(3, 4)):
-    """A fields.npz as analysis.silo3d_rotating writes it: grid, windows,
+    """A fields.npz as analysis.silo3d_rotating.analyse writes it: grid, windows,
     frames and per window the maps (phi constant per window; one cell NaN
     in the first window, as a cell without grains)."""
     nr, nz = cells

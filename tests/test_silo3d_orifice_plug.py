@@ -1,5 +1,5 @@
 """The grains over the orifice against the bottom's rotation
-(analysis.silo3d_orifice_plug), on a hand-built run at f = 0.5 Hz: a plug
+(analysis.silo3d_rotating.orifice_plug), on a hand-built run at f = 0.5 Hz: a plug
 over the orifice turning rigidly at 0.3 of the bottom's angular speed,
 whose grains stay for the first frames and are then replaced a quarter
 at a time, falling faster frame by frame; a ring of grains on the plate
@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from analysis import silo3d_orifice_plug as plug
+from analysis.silo3d_rotating import orifice_plug as plug
 from analysis.common.tables import read_table
 from test_silo3d_acceleration import D, dump_frame, write_run_records
 

@@ -1,10 +1,10 @@
-"""analysis.silo3d_results: the rotating silo's ratios over the same window,
+"""analysis.silo3d_rotating.results: the rotating silo's ratios over the same window,
 from the run records in doc/data."""
 
 import numpy as np
 import pytest
 
-from analysis import silo3d_results as sr
+from analysis.silo3d_rotating import results as sr
 from analysis.results_tables import DATA_DIR
 
 

@@ -1,10 +1,10 @@
 """The rotating-bottom silo's analysis: the readers of
-analysis.silo3d_records on real LIGGGHTS output (dump custom, dump local of
+analysis.silo3d_rotating.records on real LIGGGHTS output (dump custom, dump local of
 compute pair/gran/local and its force convention), the stationary flow rate
-of analysis.silo3d_flow on synthetic discharge records whose answer is
+of analysis.silo3d_rotating.flow on synthetic discharge records whose answer is
 worked out here by hand, seed statistics, the Beverloo and exponential fits,
-and the CLI (analysis.silo3d_rotating, with the fields of
-analysis.silo3d_fields) on synthetic run directories."""
+and the CLI (analysis.silo3d_rotating.analyse, with the fields of
+analysis.silo3d_rotating.fields) on synthetic run directories."""
 
 import math
 import subprocess
@@ -18,8 +18,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from analysis.common import coarse_grain as cg  # noqa: E402
-from analysis import silo3d_flow, silo3d_records  # noqa: E402
-from analysis import silo3d_rotating as silo  # noqa: E402
+from analysis.silo3d_rotating import flow as silo3d_flow  # noqa: E402
+from analysis.silo3d_rotating import records as silo3d_records  # noqa: E402
+from analysis.silo3d_rotating import analyse as silo  # noqa: E402
 from analysis.common.deck_blocks import granular_setup, hooke_materials  # noqa: E402
 from analysis.common.lammps_io import dump_steps, iter_dump  # noqa: E402
 from analysis.common.tables import read_table

@@ -1,5 +1,5 @@
 """Checkpoints of the rotating-bottom silo's discharge and resuming from
-them (inputs/run_until_done.in, the deck's `resume`, analysis.checkpoint,
+them (inputs/run_until_done.in, the deck's `resume`, analysis.campaign.checkpoint,
 examples/silo3d_rotating/run.sh).
 
 - On the engine: a quick run with reinjection and dumps, checkpointed
@@ -24,11 +24,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis import checkpoint, silo3d_carry
-from analysis import silo3d_rotating as silo
+from analysis.campaign import checkpoint
+from analysis.campaign import silo3d_carry
+from analysis.silo3d_rotating import analyse as silo
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
-from analysis.silo3d_records import DumpCut, read_dump_cut, read_run_info
+from analysis.silo3d_rotating.records import DumpCut, read_dump_cut, read_run_info
 from conftest import LIGGGHTS, ROOT, has_mpirun, run_liggghts
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -101,7 +102,7 @@ def test_a_run_resumed_with_a_longer_discharge_time_goes_on_to_it_and_says_so(un
 
 
 def test_a_run_carried_to_another_machine_at_its_checkpoint_ends_as_the_uninterrupted_one(uninterrupted, tmp_path):
-    # analysis.silo3d_carry: a run stopped after its first checkpoint is
+    # analysis.campaign.silo3d_carry: a run stopped after its first checkpoint is
     # kept in a store and restored into another directory (another
     # machine), whose deck resumes it: the records are the uninterrupted
     # run's, and the dump too from the checkpoint on (before it, the kept

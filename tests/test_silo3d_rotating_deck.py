@@ -24,8 +24,8 @@ import pytest
 
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
-from analysis.silo3d_flow import stationary_flow_rate
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_rotating.flow import stationary_flow_rate
+from analysis.silo3d_rotating.records import read_run_info
 from conftest import ROOT, LiggghtsError, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
@@ -84,7 +84,7 @@ def solid_rod_mass(length, aspect):
 
 
 def flow_rate(record, t_open):
-    """The analysis' stationary flow rate (analysis.silo3d_flow) after
+    """The analysis' stationary flow rate (analysis.silo3d_rotating.flow) after
     the start-up, with its standard error from block averages."""
     flow = stationary_flow_rate(record["t"], record["n_out"], record["mass_out"],
                                 t_open + SKIP_AFTER_OPEN, record["t"][-1])

@@ -16,7 +16,7 @@ import pytest
 
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_rotating.records import read_run_info
 from conftest import LIGGGHTS, ROOT
 
 RUN_SH = ROOT / "examples" / "silo3d_rotating" / "run.sh"

@@ -3,7 +3,7 @@
 # campaign"): D = 60 mm, L/d = 3.3, six frequencies in three packings, each
 # frequency with its own discharge and transient, two runs at a time, carried
 # from session to session (a session's machine may not outlive it) through
-# the repository (analysis.silo3d_carry): the finished runs' reduced records
+# the repository (analysis.campaign.silo3d_carry): the finished runs' reduced records
 # in a store in doc/data, the unfinished runs' last checkpoints and the
 # settled packings in carry/<store's name>/. With ASPECT, PROTOCOL and STORE
 # it runs another aspect ratio's campaign (rods_elongation.sh).
@@ -52,12 +52,12 @@ DS="${DS:-0.06}"
 PYTHON="${PYTHON:-/usr/bin/python3}"
 analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
 ASPECT="${ASPECT:-3.3}"
-CARRIED_PACKINGS="$(analysis analysis.silo3d_carry carry-dir "$STORE")/packings"
+CARRIED_PACKINGS="$(analysis analysis.campaign.silo3d_carry carry-dir "$STORE")/packings"
 PACKINGS="${PACKINGS:-}"
 if [ -z "$PACKINGS" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
 SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0}"
 # the dumps keep the orifice region and the column over the axis (the
-# axial acceleration, analysis.silo3d_acceleration)
+# axial acceleration, analysis.silo3d_rotating.acceleration)
 COLUMN=(--dump-cylinder 0.025 0.2)
 
 set -- $PROTOCOL
@@ -86,11 +86,11 @@ if [ "$ACTION" = keep ]; then
   finished=()
   for run in "$RUN_DIR"/D*_f*_s*; do [ -f "$run/finished" ] && finished+=("$run"); done
   [ ${#finished[@]} = 0 ] || analysis analysis.silo3d_rotating "${finished[@]}" --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
-  analysis analysis.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
+  analysis analysis.campaign.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
   exit 0
 fi
 
-analysis analysis.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
+analysis analysis.campaign.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
 # (DISCHARGE and TRANSIENT are each frequency's, from DISCHARGE_AT and
 # TRANSIENT_AT: run.sh needs defaults, never used)
 SHAPE=rod ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" SETTLE_CHECKPOINT="$SETTLE_CHECKPOINT" \

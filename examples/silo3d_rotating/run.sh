@@ -12,7 +12,7 @@
 # reused); the flow is kept stationary by reinjecting the grains at the top.
 # Resumable: a run whose directory holds `finished` is not run again, and
 # an interrupted discharge goes on from its last checkpoint (a restart file
-# every CHECKPOINT s of discharge; analysis.checkpoint cuts its records back
+# every CHECKPOINT s of discharge; analysis.campaign.checkpoint cuts its records back
 # to it), so that an interruption loses at most CHECKPOINT s of each run.
 # An unfinished run can be made longer: the same command with a larger
 # DISCHARGE resumes it and runs it to the new end (its run.txt then ends
@@ -192,7 +192,7 @@ settle() {   # one packing per seed
         > screen.txt 2>&1) || { log "FAILED: see $dir/screen.txt"; return 1; }
   else
     local resume=""
-    [ "$SETTLE_CHECKPOINT" = 0 ] || resume=$(analysis analysis.checkpoint settle-resume "$dir")
+    [ "$SETTLE_CHECKPOINT" = 0 ] || resume=$(analysis analysis.campaign.checkpoint settle-resume "$dir")
     if [ -n "$resume" ]; then
       log "settling the packing of seed $seed in $dir: resuming ($resume)"
     else
@@ -207,7 +207,7 @@ settle() {   # one packing per seed
   # (a settling stopped by SIGINT/SIGTERM ends with status 0 but no packing)
   [ -f "$dir/packing.restart" ] || { log "seed $seed: stopped before its packing was written; the same command settles it again (from its last checkpoint, with SETTLE_CHECKPOINT)"; return 1; }
   touch "$dir/finished"
-  analysis analysis.checkpoint clean "$dir"
+  analysis analysis.campaign.checkpoint clean "$dir"
 }
 
 wants_fields() {
@@ -235,7 +235,7 @@ discharge() {  # one (D, f, seed) run
   wants_fields "$D" "$f" && dump=0.05
   start=$(date +%s)
   # after an interruption: the last checkpoint's variables, records cut back to it
-  resume=$(analysis analysis.checkpoint resume "$dir")
+  resume=$(analysis analysis.campaign.checkpoint resume "$dir")
   if [ -n "$resume" ]; then
     log "D $D f $f seed $seed: resuming ($resume)"
   else
@@ -255,7 +255,7 @@ discharge() {  # one (D, f, seed) run
     log "D $D f $f seed $seed: stopped before the end of its discharge (SIGINT/SIGTERM?); the same command resumes it"
     return 1; }
   touch "$dir/finished"
-  analysis analysis.checkpoint clean "$dir"
+  analysis analysis.campaign.checkpoint clean "$dir"
   log "D $D f $f seed $seed: $(grep -a 'done at' "$dir/screen.txt" | sed 's/silo3d_rotating: //') ($(( $(date +%s) - start )) s)"
 }
 

@@ -20,7 +20,7 @@ flowing in the column changes its velocity far less and stays in.
 Grains near the orifice that leave within Δt_p are in one frame only:
 the lowest bins hold the grains that stayed, as in the paper's records.
 
-    python3 -m analysis.silo3d_acceleration RUN_DIR:T_FROM:T_TO ... --out DIR
+    python3 -m analysis.silo3d_rotating.acceleration RUN_DIR:T_FROM:T_TO ... --out DIR
 
 T_FROM, T_TO: the window in s since the opening (both frames of a pair
 within it). Writes DIR/axial_acceleration.{md,txt} (a profile per run),
@@ -37,9 +37,9 @@ from pathlib import Path
 import numpy as np
 
 from analysis.common.lammps_io import dump_steps, iter_dump
-from analysis.silo3d_flow import BLOCKS, progress
-from analysis.silo3d_records import load_run, once_each, time_since_opening
-from analysis.silo3d_rotating import _figure, _save, write_table
+from analysis.silo3d_rotating.flow import BLOCKS, progress
+from analysis.silo3d_rotating.records import load_run, once_each, time_since_opening
+from analysis.silo3d_rotating.analyse import _figure, _save, write_table
 
 AXIS_DIAMETER = 0.03      # m: the paper's cylinder (Fig. 10's caption; D/2 at D = 60 mm)
 JUMP = 0.05               # m: a displacement this far from its velocities' is not a free motion
@@ -148,7 +148,7 @@ def _integral(values, z):
 
 def axial_profile(run, t_from, t_to, radius=AXIS_DIAMETER / 2, z_edges=None, blocks=BLOCKS, jump=JUMP,
                   place="midpoint"):
-    """AxialProfile of `run` (analysis.silo3d_records.Run) over the window;
+    """AxialProfile of `run` (analysis.silo3d_rotating.records.Run) over the window;
     z_edges default to profile_edges(D): BINS_PER_D bins per D from the
     plate to Z_MAX_IN_D D.
     The frame pairs are split into `blocks` runs of consecutive pairs for
@@ -211,7 +211,7 @@ def parse_run(text):
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_acceleration", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.acceleration", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+", type=parse_run, help="RUN_DIR:T_FROM:T_TO")
     parser.add_argument("--out", type=Path, required=True, help="output directory")
@@ -293,7 +293,7 @@ def main(argv=None):
     write_table(args.out / "axial_acceleration", ["f", "D", "seed", "t_from", "t_to", "z", "z_over_D", "a_over_g",
                                                   "a_over_g_se", "v_z", "v_z_se", "grain_pairs"], rows,
                 f"a_eff(z) = <dv_z/dt_p> in a cylinder of diameter {args.diameter:g} m about the axis "
-                f"(analysis.silo3d_acceleration); standard errors from {args.blocks} blocks of frame pairs")
+                f"(analysis.silo3d_rotating.acceleration); standard errors from {args.blocks} blocks of frame pairs")
     summary = [[run.info["f"], run.info["D"], run.info["seed"], t_from, t_to, p.pairs, p.interval,
                 int(p.counts.sum()), p.left_out, p.area, p.area_se, p.exit_speed_from_area, -p.velocity[0],
                 p.velocity_se[0]]

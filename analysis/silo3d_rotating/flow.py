@@ -8,7 +8,7 @@ that the fields share (BLOCKS, CONFIDENCE) and the progress line.
 
 The window, the no-flow rule and the errors are defined in
 doc/silo3d_rotating_records.md (the record format too); runs come from
-analysis.silo3d_records.load_run.
+analysis.silo3d_rotating.records.load_run.
 """
 
 from dataclasses import dataclass, replace

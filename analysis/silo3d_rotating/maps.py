@@ -1,10 +1,10 @@
 """Coarse-grained maps of several runs side by side, as the paper's Figs.
 6–7 set frequencies next to each other: for each run the mean of its map
-windows (the `fields.npz` that analysis.silo3d_rotating writes per run,
+windows (the `fields.npz` that analysis.silo3d_rotating.analyse writes per run,
 each window weighted by its frames), one column per run, one row per
 field, one colour scale per row, so that the runs compare by colour.
 
-CLI:  python3 -m analysis.silo3d_maps FIELDS.npz[:LABEL] ... --out PNG [--fields phi speed Ozz ...] [--z-max Z]
+CLI:  python3 -m analysis.silo3d_rotating.maps FIELDS.npz[:LABEL] ... --out PNG [--fields phi speed Ozz ...] [--z-max Z]
 
 Fields: phi (packing fraction), speed ((v_r² + v_z²)^½, with the
 streamlines of (v_r, v_z)), vtheta, pk (kinetic pressure), pc (contact
@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.silo3d_rotating import draw_streamlines, in_plane_speed
+from analysis.silo3d_rotating.analyse import draw_streamlines, in_plane_speed
 
 # name: (title, the stored map it is made from, how)
 FIELDS = {
@@ -88,7 +88,7 @@ def plot(path, runs, labels, fields, z_max=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_maps", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.maps", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+", help="FIELDS.npz[:LABEL], a run's fields.npz and its column's label")
     parser.add_argument("--out", type=Path, required=True, help="the figure (PNG)")

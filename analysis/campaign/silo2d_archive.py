@@ -27,7 +27,7 @@ The run's dumps and restart files (the driver's state<k>.restart) are not
 kept: an archive is what doc/data holds of a finished run
 (doc/data/README.md).
 
-CLI:  python3 -m analysis.silo2d_archive RUN_DIR ARCHIVE_DIR
+CLI:  python3 -m analysis.campaign.silo2d_archive RUN_DIR ARCHIVE_DIR
 """
 
 import argparse
@@ -85,7 +85,7 @@ def archive(run_dir, archive_dir, d=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d_archive", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo2d_archive", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("archive_dir", type=Path)

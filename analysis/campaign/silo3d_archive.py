@@ -4,9 +4,9 @@ analysed, its orifice averages and maps, in a few per cent of the space.
 
 The archive keeps
 - run.txt and discharge.txt as they are, and reinject.txt as
-  reinject.txt.xz (small; analysis.silo3d_rotating takes Q from them);
+  reinject.txt.xz (small; analysis.silo3d_rotating.analyse takes Q from them);
 - from an analysis of the whole run directory (`--analysis OUT`, the
-  `--out` of analysis.silo3d_rotating that read this run, with the
+  `--out` of analysis.silo3d_rotating.analyse that read this run, with the
   campaign's windows): the run's orifice_timeseries.md (the orifice-region
   averages per frame) and fields.npz (the maps' fields, stored as float32).
 
@@ -16,10 +16,10 @@ the archive, and its tables are kept. A finished run restored from its
 archive gives Q but no new orifice averages or maps.
 
 A run whose run.txt has no `finished` line is refused: its records are
-cut at a checkpoint or still growing (analysis.silo3d_carry carries an
+cut at a checkpoint or still growing (analysis.campaign.silo3d_carry carries an
 unfinished run to another machine outside doc/data, in carry/<campaign>/).
 
-CLI:  python3 -m analysis.silo3d_archive RUN_DIR ARCHIVE_DIR [--analysis OUT]
+CLI:  python3 -m analysis.campaign.silo3d_archive RUN_DIR ARCHIVE_DIR [--analysis OUT]
 """
 
 import argparse
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_rotating.records import read_run_info
 
 RECORDS = ("run.txt", "discharge.txt")       # kept as they are
 PACKED = ("reinject.txt",)                     # kept with xz
@@ -38,7 +38,7 @@ ANALYSED = ("orifice_timeseries.md",)          # from the analysis' runs/<label>
 
 
 def run_label(info):
-    """The name analysis.silo3d_rotating gives the run's directory under
+    """The name analysis.silo3d_rotating.analyse gives the run's directory under
     OUT/runs (silo3d_flow.run_labels, without its suffix for twins)."""
     return f"f{info['f']:g}_D{info['D'] * 1e3:g}mm_seed{info['seed']:.0f}"
 
@@ -64,7 +64,7 @@ def archive(run_dir, archive_dir, analysis_dir=None):
     info = read_run_info(run_dir, required=("D", "f", "seed"))
     if "finished" not in info:         # the deck's last act (silo3d_records.Run.finished)
         raise ValueError(f"{run_dir}: unfinished (run.txt has no 'finished' line); "
-                         "analysis.silo3d_carry keep carries a run that is to go on")
+                         "analysis.campaign.silo3d_carry keep carries a run that is to go on")
     if archive_dir.exists() and (archive_dir.resolve() == run_dir.resolve() or any(archive_dir.iterdir())):
         raise ValueError(f"{archive_dir}: not empty; an archive goes into a new directory")
     analysed = None
@@ -90,7 +90,7 @@ def archive(run_dir, archive_dir, analysis_dir=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_archive", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_archive", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("archive_dir", type=Path)

@@ -4,7 +4,7 @@ pressure and orientation on an (r, z) grid in time windows (the maps), and
 averaged over the orifice cylinder frame by frame in the flowing
 stationary window (the orifice averages), per run and over seeds.
 
-Frames come from analysis.silo3d_records (record format:
+Frames come from analysis.silo3d_rotating.records (record format:
 doc/silo3d_rotating_records.md); the coarse graining is
 analysis.common.coarse_grain (doc/coarse_graining.md).
 """
@@ -15,8 +15,8 @@ import numpy as np
 
 from analysis.common import coarse_grain as cg
 from analysis.common.lammps_io import dump_steps, iter_dump
-from analysis.silo3d_flow import BLOCKS, CONFIDENCE, group_by_key, progress, seed_mean_ci
-from analysis.silo3d_records import DUMP_CUT, frames_with_contacts, read_dump_cut, time_since_opening
+from analysis.silo3d_rotating.flow import BLOCKS, CONFIDENCE, group_by_key, progress, seed_mean_ci
+from analysis.silo3d_rotating.records import DUMP_CUT, frames_with_contacts, read_dump_cut, time_since_opening
 
 
 @dataclass

@@ -7,13 +7,13 @@ The rods' flow at rest still rises with time (the first two packings at
 D = 60 mm: 0.139 kg/s over 1-4 s, 0.176 kg/s over 4-8 s), so a ratio of a
 rate over one window to a rate over another is biased by as much; here
 both rates of a ratio come from one window, read from each run's
-discharge.txt (analysis.silo3d_flow.stationary_flow_rate between the first
+discharge.txt (analysis.silo3d_rotating.flow.stationary_flow_rate between the first
 sample at or after the window's start and the last at or before its end,
 10 blocks for the standard error).
 
-    /usr/bin/python3 -m analysis.silo3d_results --write   # the tables in doc/data
-    /usr/bin/python3 -m analysis.silo3d_results --check   # exit 1 if they differ
-    /usr/bin/python3 -m analysis.silo3d_results --print   # the page's rows
+    /usr/bin/python3 -m analysis.silo3d_rotating.results --write   # the tables in doc/data
+    /usr/bin/python3 -m analysis.silo3d_rotating.results --check   # exit 1 if they differ
+    /usr/bin/python3 -m analysis.silo3d_rotating.results --print   # the page's rows
 
 The tables: doc/data/silo3d_rods_fig2c/same_window_ratios.md (frequency)
 and doc/data/silo3d_rods_orifices/same_window_ratios.md (orifice).
@@ -29,8 +29,8 @@ from pathlib import Path
 import numpy as np
 
 from analysis.results_tables import DATA_DIR, Row
-from analysis.silo3d_flow import BLOCKS, fit_exponential, last_exit, stationary_flow_rate
-from analysis.silo3d_records import load_run
+from analysis.silo3d_rotating.flow import BLOCKS, fit_exponential, last_exit, stationary_flow_rate
+from analysis.silo3d_rotating.records import load_run
 
 # the rods' three packings at D = 60 mm (the kept packings' seeds)
 PACKINGS = {"1st": 32452843, "2nd": 15485863, "3rd": 49979687}
@@ -233,7 +233,7 @@ def power_fit(data_dir, sizes, window, packing="2nd", relative_sigma=WINDOW_SPRE
 def acceleration_changes(data_dir):
     """The change of the area under a_eff(z) (the paper's Fig. 10) from
     rest to rotation, pairs with the same window in both runs: {label:
-    (change, se, window)} from the summaries of analysis.silo3d_acceleration."""
+    (change, se, window)} from the summaries of analysis.silo3d_rotating.acceleration."""
     out = {}
     for name, label in (("rods", "rods"), ("spheres", "spheres")):
         table = np.loadtxt(data_dir / ACCELERATION / f"{name}_axial_acceleration_summary.txt", ndmin=2)
@@ -288,8 +288,8 @@ def frequency_table(data_dir):
     """The Markdown of silo3d_rods_fig2c/same_window_ratios.md."""
     lines = ["# Rods at D = 60 mm: flow rates and their ratios over the same window",
              "",
-             "Made by `/usr/bin/python3 -m analysis.silo3d_results --write` from each run's",
-             "discharge.txt (the directories in `analysis/silo3d_results.py`, FIG2C). Q in kg/s",
+             "Made by `/usr/bin/python3 -m analysis.silo3d_rotating.results --write` from each run's",
+             "discharge.txt (the directories in `analysis/silo3d_rotating/results.py`, FIG2C). Q in kg/s",
              "± its block standard error (10 blocks) over the window, in time since the opening;",
              "both rates of a ratio over the same window. A ratio over packings is the weighted",
              "mean of the packings' ratios (each ± the two runs' block errors propagated), its",
@@ -335,12 +335,12 @@ def orifice_table(data_dir):
     """The Markdown of silo3d_rods_orifices/same_window_ratios.md."""
     lines = ["# Rods at rest: Q(D) and its ratios over the same window",
              "",
-             "Made by `/usr/bin/python3 -m analysis.silo3d_results --write` from each run's",
-             "discharge.txt (the directories in `analysis/silo3d_results.py`, ORIFICES). Q in",
+             "Made by `/usr/bin/python3 -m analysis.silo3d_rotating.results --write` from each run's",
+             "discharge.txt (the directories in `analysis/silo3d_rotating/results.py`, ORIFICES). Q in",
              "kg/s ± its block standard error (10 blocks) over the window, in time since the",
              "opening; both rates of a ratio over the same window, each ratio ± the two runs'",
              "block errors propagated. The 50, 70 and 80 mm runs last 2 s, so their ratios are",
-             "over 1–2 s. kappa: the exponential Q = A e^{kappa D} (analysis.silo3d_flow.fit_exponential),",
+             "over 1–2 s. kappa: the exponential Q = A e^{kappa D} (analysis.silo3d_rotating.flow.fit_exponential),",
              f"each point ± {WINDOW_SPREAD:g} Q (the spread of a 1 s window between realizations)",
              "or ± its block error; the paper's kappa_sim = 0.084 /mm.",
              "",
@@ -516,10 +516,10 @@ def plot_same_window(data_dir, path):
 # ---------------------------------------------------------------- command line
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.silo3d_results",
+    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.silo3d_rotating.results",
                                      description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter,
-                                     epilog="example: /usr/bin/python3 -m analysis.silo3d_results --check")
+                                     epilog="example: /usr/bin/python3 -m analysis.silo3d_rotating.results --check")
     action = parser.add_mutually_exclusive_group(required=True)
     action.add_argument("--write", action="store_true", help="write the same-window tables into doc/data")
     action.add_argument("--check", action="store_true", help="exit 1 naming the tables that differ from the records")
@@ -547,7 +547,7 @@ def main(argv=None):
         print(markdown_table(results_rows(args.data_dir)))
     for name in stale:
         print(f"{args.data_dir / name} differs from the records "
-              "(/usr/bin/python3 -m analysis.silo3d_results --write)", file=sys.stderr)
+              "(/usr/bin/python3 -m analysis.silo3d_rotating.results --write)", file=sys.stderr)
     return 1 if stale else 0
 
 

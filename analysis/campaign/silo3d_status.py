@@ -14,7 +14,7 @@ records a run directory holds (run.txt, discharge.txt, screen.txt).
   from above;
 - loop h per simulated s, and the hours left at that pace.
 
-CLI:  python3 -m analysis.silo3d_campaign DIR [DIR ...]
+CLI:  python3 -m analysis.campaign.silo3d_status DIR [DIR ...]
 
 A DIR is a run directory (D<D>_f<f>_s<seed>) or a campaign directory
 holding them (run.sh's RUN_DIR); the settling of packings is not counted.
@@ -25,7 +25,7 @@ import re
 import sys
 from pathlib import Path
 
-from analysis.silo3d_records import read_run_info
+from analysis.silo3d_rotating.records import read_run_info
 
 LOOP = re.compile(r"^Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps")
 
@@ -77,13 +77,13 @@ def run_dirs(paths):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_campaign", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_status", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("dirs", nargs="+", help="run or campaign directories")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     runs = run_dirs(args.dirs)
     if not runs:
-        print("silo3d_campaign: ERROR: no run directory (D<D>_f<f>_s<seed> with run.txt) in "
+        print("silo3d_status: ERROR: no run directory (D<D>_f<f>_s<seed> with run.txt) in "
               + " ".join(args.dirs), file=sys.stderr)
         return 2
     rows = [run_status(path) for path in runs]

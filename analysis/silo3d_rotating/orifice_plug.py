@@ -11,7 +11,7 @@ r_out, 0 < z < `plate_height`, default 4–6 cm and 1 cm, inside the
 cylinder that the campaign's cut dumps keep). A plug that turns as the
 ring does is carried with it; the bottom slides under both.
 
-    python3 -m analysis.silo3d_orifice_plug RUN_DIR --window T_FROM T_TO ... --out DIR
+    python3 -m analysis.silo3d_rotating.orifice_plug RUN_DIR --window T_FROM T_TO ... --out DIR
 
 Writes DIR/orifice_plug.{md,txt} (per frame from the first window's start
 to the last one's end) and DIR/orifice_plug_windows.{md,txt} (per window:
@@ -32,11 +32,11 @@ from pathlib import Path
 import numpy as np
 
 from analysis.common.lammps_io import iter_dump
-from analysis.silo3d_acceleration import frame_spacing, in_window, window_frames
-from analysis.silo3d_fields import block_standard_error
-from analysis.silo3d_flow import progress
-from analysis.silo3d_records import load_run, once_each
-from analysis.silo3d_rotating import write_table
+from analysis.silo3d_rotating.acceleration import frame_spacing, in_window, window_frames
+from analysis.silo3d_rotating.fields import block_standard_error
+from analysis.silo3d_rotating.flow import progress
+from analysis.silo3d_rotating.records import load_run, once_each
+from analysis.silo3d_rotating.analyse import write_table
 
 HEIGHT = 0.02           # m: over the orifice, a rod's length above the plate
 RING = (0.04, 0.06)     # m: the plate around a 60 mm orifice, inside the cut dumps' r < 6 cm
@@ -91,7 +91,7 @@ def window_means(rows, t_from, t_to, blocks=BLOCKS):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_orifice_plug", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.orifice_plug", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("--window", nargs=2, type=float, action="append", required=True,
@@ -114,7 +114,7 @@ def main(argv=None):
         parser.error(f"{args.run_dir}: f = {f:g} Hz: at rest there is no bottom speed to compare with")
     if not (args.run_dir / "dump.cg").exists():
         parser.error(f"{args.run_dir}: no dump.cg (an archive's dump.cg.xz: restore it first, "
-                     "python3 -m analysis.silo3d_carry restore)")
+                     "python3 -m analysis.campaign.silo3d_carry restore)")
     steps, tau = window_frames(run, min(w[0] for w in args.window), max(w[1] for w in args.window))
     if not steps.size:
         parser.error(f"{args.run_dir}: no dump frame in the windows")

@@ -6,9 +6,9 @@ coarse_grain Contacts, the time since the opening of dump steps, and the
 Run that holds one run's records (and, once analysed, its flow rate).
 
 The record format (files, columns, units, the deck's conventions):
-doc/silo3d_rotating_records.md. The flow rate is in analysis.silo3d_flow,
-the coarse-grained fields in analysis.silo3d_fields, the command line in
-analysis.silo3d_rotating.
+doc/silo3d_rotating_records.md. The flow rate is in analysis.silo3d_rotating.flow,
+the coarse-grained fields in analysis.silo3d_rotating.fields, the command line in
+analysis.silo3d_rotating.analyse.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from analysis.common.lammps_io import iter_dump
 from analysis.common.tables import read_table
 
 if TYPE_CHECKING:                      # Run.flow's annotation only
-    from analysis.silo3d_flow import FlowRate
+    from analysis.silo3d_rotating.flow import FlowRate
 
 RUN_KEYS = ("d", "rho", "mass", "Dc", "D", "f", "seed", "N", "dt", "t_open", "reinject")
 DISCHARGE_COLUMNS = ("step", "t", "n_out", "mass_out")
@@ -35,8 +35,8 @@ CONTACT_COLUMNS = ("x1", "y1", "z1", "x2", "y2", "z2", "id1", "id2", "periodic",
 # (compute spherocylinder/axis); ox oy oz is the name other tools use
 ORIENTATION_COLUMN_SETS = (("c_rod_axis[1]", "c_rod_axis[2]", "c_rod_axis[3]"), ("ox", "oy", "oz"))
 # beside a dump.cg whose frames hold only the grains inside some cylinders
-# (an archive's, or a run's carried from a checkpoint: analysis.silo3d_archive,
-# analysis.checkpoint keep)
+# (an archive's, or a run's carried from a checkpoint: analysis.campaign.silo3d_archive,
+# analysis.campaign.checkpoint keep)
 DUMP_CUT = "dump_cut.txt"
 
 

@@ -12,8 +12,8 @@ CLI:  python3 -m analysis.silo3d_rotating RUN_DIR [RUN_DIR ...] --out DIR [optio
 
 # The docstring above is the command line's --help. This module holds the
 # command line, its tables and plots; the analysis is in
-# analysis.silo3d_records (reading a run's records), analysis.silo3d_flow
-# (flow rate, fits) and analysis.silo3d_fields (coarse-grained fields,
+# analysis.silo3d_rotating.records (reading a run's records), analysis.silo3d_rotating.flow
+# (flow rate, fits) and analysis.silo3d_rotating.fields (coarse-grained fields,
 # orifice averages).
 
 import argparse
@@ -24,11 +24,11 @@ import numpy as np
 
 from analysis.common import coarse_grain as cg
 from analysis.common.lammps_io import iter_dump
-from analysis.silo3d_fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
-from analysis.silo3d_flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
+from analysis.silo3d_rotating.fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
+from analysis.silo3d_rotating.flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
                                   beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups, last_exit,
                                   progress, run_labels, smoothed_rate, window_rates)
-from analysis.silo3d_records import key_value, load_run
+from analysis.silo3d_rotating.records import key_value, load_run
 
 
 # ---------------------------------------------------------------- tables
@@ -505,7 +505,3 @@ def main(argv=None):
                                "<S_lab> (Cartesian average)"))
     progress(f"done; outputs in {args.out}")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -15,10 +15,10 @@ interruption, this module
   the run's time at it (LIGGGHTS' own time restarts at 0 after
   read_restart), and the step and grain count at the opening, from run.txt.
 
-    python3 -m analysis.checkpoint resume RUN_DIR   # cuts, prints "-var name value ..."
-    python3 -m analysis.checkpoint settle-resume PACKING_DIR
+    python3 -m analysis.campaign.checkpoint resume RUN_DIR   # cuts, prints "-var name value ..."
+    python3 -m analysis.campaign.checkpoint settle-resume PACKING_DIR
                                                     # the same for a settling cut short
-    python3 -m analysis.checkpoint clean RUN_DIR    # removes the checkpoint files
+    python3 -m analysis.campaign.checkpoint clean RUN_DIR    # removes the checkpoint files
                                                     # (and LIGGGHTS' forced restart)
 
 `resume` prints nothing when there is no checkpoint to go on from.
@@ -26,8 +26,8 @@ interruption, this module
 A machine whose files do not outlive the session (ours: each session
 starts on a new one) keeps an unfinished run in the repository instead:
 
-    python3 -m analysis.checkpoint keep RUN_DIR KEPT [--dump-cylinder R Z]
-    python3 -m analysis.checkpoint restore KEPT RUN_DIR
+    python3 -m analysis.campaign.checkpoint keep RUN_DIR KEPT [--dump-cylinder R Z]
+    python3 -m analysis.campaign.checkpoint restore KEPT RUN_DIR
 
 `keep` writes the last checkpoint (xz), its line of checkpoints.txt,
 run.txt, the row records up to it and dump.cg's frames before it (xz; with
@@ -46,7 +46,7 @@ import sys
 from pathlib import Path
 
 from analysis.common.lammps_io import iter_dump
-from analysis.silo3d_records import DUMP_CUT, read_dump_cut, read_run_info, write_dump_cut
+from analysis.silo3d_rotating.records import DUMP_CUT, read_dump_cut, read_run_info, write_dump_cut
 
 CHECKPOINTS = "checkpoints.txt"
 ROW_RECORDS = ("discharge.txt", "reinject.txt")   # one row per step, step first

@@ -6,7 +6,7 @@ machine, and a run of 8 s of rods outlasts a session). Between sessions a
 campaign lives in two places of the repository:
 
     STORE/<run>/            each finished run's reduced records
-                            (analysis.silo3d_archive: run.txt, discharge.txt,
+                            (analysis.campaign.silo3d_archive: run.txt, discharge.txt,
                             reinject.txt.xz and, when the run was analysed,
                             orifice_timeseries.md and fields.npz) and its
                             screen.txt.xz (the loop times: the run's cost).
@@ -15,7 +15,7 @@ campaign lives in two places of the repository:
     carry/<campaign>/<run>/ each UNFINISHED run's last checkpoint, its
                             records up to it, its dump's frames before it
                             (the orifice region and the --dump-cylinder
-                            ones) and screen.txt.xz (analysis.checkpoint
+                            ones) and screen.txt.xz (analysis.campaign.checkpoint
                             keep). <campaign> is STORE's name; carry/ is at
                             the top of the git work tree that holds STORE
                             (beside STORE outside one); --carry DIR
@@ -31,7 +31,7 @@ campaign lives in two places of the repository:
                             its last checkpoint. `drop-packings` removes the
                             packings when the campaign's runs are all done.
 
-    python3 -m analysis.silo3d_carry keep RUN_DIR STORE [--dump-cylinder R Z ...]
+    python3 -m analysis.campaign.silo3d_carry keep RUN_DIR STORE [--dump-cylinder R Z ...]
             [--analysis OUT] [--carry DIR]
         Archives the finished runs of RUN_DIR that STORE lacks (with the
         tables and fields of OUT/runs/<label>/, OUT being RUN_DIR/analysis
@@ -40,11 +40,11 @@ campaign lives in two places of the repository:
         unfinished one, in place of the one carried before. Safe while the
         runs go on (a checkpoint is listed once it is whole, and the
         records are cut back to it).
-    python3 -m analysis.silo3d_carry carry-dir STORE
+    python3 -m analysis.campaign.silo3d_carry carry-dir STORE
         Prints where STORE's campaign carries its runs and packings.
-    python3 -m analysis.silo3d_carry drop-packings STORE [--carry DIR]
+    python3 -m analysis.campaign.silo3d_carry drop-packings STORE [--carry DIR]
         Removes the carried packings once the campaign's runs are done.
-    python3 -m analysis.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...] [--carry DIR]
+    python3 -m analysis.campaign.silo3d_carry restore STORE RUN_DIR [--also ARCHIVE ...] [--carry DIR]
         On the next machine: puts each archive (STORE's and the --also
         ones, archives of the same protocol kept elsewhere in doc/data)
         into RUN_DIR as a finished run (its records, run.sh's `finished`
@@ -55,7 +55,7 @@ campaign lives in two places of the repository:
 --dump-cylinder: cylinders about the z axis whose grains a carried run's
 dump keeps besides the orifice region (r < 6 cm, z < 5 cm); e.g.
 `0.025 0.2`, the column over the axis of the axial acceleration
-(analysis.silo3d_acceleration). A finished run's dump is not kept: analyse
+(analysis.silo3d_rotating.acceleration). A finished run's dump is not kept: analyse
 the run (analysis.silo3d_rotating RUN_DIR/D* --out RUN_DIR/analysis ...)
 before `keep` archives it.
 """
@@ -66,9 +66,9 @@ import shutil
 import sys
 from pathlib import Path
 
-from analysis import checkpoint
-from analysis import silo3d_archive
-from analysis.silo3d_records import read_run_info
+from analysis.campaign import checkpoint
+from analysis.campaign import silo3d_archive
+from analysis.silo3d_rotating.records import read_run_info
 
 CARRY = "carry"
 MARK = "archived_in"      # in RUN_DIR: this finished run came from that archive
@@ -103,7 +103,7 @@ def pack_screen(run_dir, target_dir):
 
 def carry_checkpoint(run, carried, cylinders=None):
     """Writes run's last checkpoint and its records up to it into `carried`
-    (analysis.checkpoint.keep) through a .part folder, so that a carry cut
+    (analysis.campaign.checkpoint.keep) through a .part folder, so that a carry cut
     short leaves the one before whole; returns the checkpoint's step."""
     partial = carried.with_name(carried.name + ".part")
     shutil.rmtree(partial, ignore_errors=True)
@@ -261,7 +261,7 @@ def restore(store, run_dir, also=(), carry=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_carry", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_carry", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     actions = parser.add_subparsers(dest="action", required=True)
     carry_help = ("where the unfinished runs are carried [carry/<STORE's name> at the top of the git "
@@ -279,7 +279,7 @@ def main(argv=None):
     restoring.add_argument("store", type=Path)
     restoring.add_argument("run_dir", type=Path)
     restoring.add_argument("--also", nargs="+", type=Path, default=[], metavar="ARCHIVE",
-                           help="more finished runs' archives (analysis.silo3d_archive)")
+                           help="more finished runs' archives (analysis.campaign.silo3d_archive)")
     restoring.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
     where = actions.add_parser("carry-dir", help="print where STORE's campaign carries its runs and packings")
     where.add_argument("store", type=Path)

@@ -43,9 +43,9 @@ import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.tables import read_table  # noqa: E402
-from analysis import silo2d  # noqa: E402
-from analysis.silo2d import bulk_mask  # noqa: E402
-from analysis.silo2d_scan import PHI_BIN, phi_peak  # noqa: E402
+from analysis.silo2d import clogs as silo2d  # noqa: E402
+from analysis.silo2d.clogs import bulk_mask  # noqa: E402
+from analysis.silo2d.scan import PHI_BIN, phi_peak  # noqa: E402
 
 D = 1.0 / 32
 T_CONTACT = 2.4458e-4           # contact time of the deck's normal contact (s)

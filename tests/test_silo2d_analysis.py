@@ -1,4 +1,4 @@
-"""analysis.silo2d on hand-made inputs whose answers are worked out here, by
+"""analysis.silo2d.clogs on hand-made inputs whose answers are worked out here, by
 hand, not with the functions under test."""
 
 import math
@@ -13,7 +13,7 @@ from scipy import optimize
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from analysis import silo2d  # noqa: E402
+from analysis.silo2d import clogs as silo2d  # noqa: E402
 
 
 # ------------------------------------------------------------------ PDFs

@@ -120,7 +120,7 @@ def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
     where = {int(i): (x, z) for i, x, z in zip(grains["id"], grains["x"], grains["z"])}
     for member, x, z in zip(arches["id"], arches["x"], arches["z"]):
         assert math.hypot(where[int(member)][0] - x, where[int(member)][1] - z) < 1e-3 * D
-    picture = subprocess.run([sys.executable, "-m", "analysis.silo2d_picture", str(tmp_path),
+    picture = subprocess.run([sys.executable, "-m", "analysis.silo2d.picture", str(tmp_path),
                               "--out", str(tmp_path / "arch.png")],
                              cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert picture.returncode == 0, picture.stderr
@@ -128,7 +128,7 @@ def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
 
 
 def test_picture_force_segments_join_known_grains():
-    from analysis.silo2d_picture import force_segments, window_mask
+    from analysis.silo2d.picture import force_segments, window_mask
     contacts = {"clog": np.array([1, 1, 1, 2]), "id1": np.array([1, 1, 2, 1]),
                 "id2": np.array([2, 9, 3, 2]), "fn": np.array([5.0, 6.0, 7.0, 8.0])}
     positions = {1: (0.0, 0.0), 2: (1.0, 0.0), 3: (1.0, 1.0)}

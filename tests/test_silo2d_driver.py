@@ -1,4 +1,4 @@
-"""analysis.silo2d_driver, the resumable clogging-silo campaign, on the
+"""analysis.silo2d.driver, the resumable clogging-silo campaign, on the
 deck's small silo (-var quick 1, 230 grains) at dt = 2e-5 s.
 
 A campaign is a chain of segments, each started from the restart file of
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from analysis import silo2d_driver
+from analysis.silo2d import driver as silo2d_driver
 from analysis.common.tables import read_table
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -28,7 +28,7 @@ CAMPAIGN = ["--mu", "0.4", "--arches", "4", "--quick", "--dt", "2e-5", "--segmen
 
 
 def driver_command(out, options=CAMPAIGN):
-    return [sys.executable, "-m", "analysis.silo2d_driver", "--out", str(out)] + list(options)
+    return [sys.executable, "-m", "analysis.silo2d.driver", "--out", str(out)] + list(options)
 
 
 def driver_environment(binary):

@@ -1,10 +1,10 @@
-"""The verdicts of the clogging silo's results table (analysis.silo2d_results)
+"""The verdicts of the clogging silo's results table (analysis.silo2d.results)
 from made-up statistics: a row agrees when its interval meets the paper's,
 differs only with a cause the records show, and says so when it agrees at
 the edge. The rows from doc/data are checked by tests/test_results_tables.py."""
 
-from analysis import silo2d_results as results
-from analysis.silo2d_results import MUS, OUTLET, PLAIN
+from analysis.silo2d import results
+from analysis.silo2d.results import MUS, OUTLET, PLAIN
 
 
 def summary(mode=3, mode_ci=(3, 4), fn_b=20.0, fn_b_ci=(19.5, 20.5), fn_a=35.0, fn_a_ci=(33.0, 37.0),

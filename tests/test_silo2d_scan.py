@@ -1,4 +1,4 @@
-"""analysis.silo2d_scan on hand-made records of two friction coefficients;
+"""analysis.silo2d.scan on hand-made records of two friction coefficients;
 the expected numbers are worked out here by hand."""
 
 import math
@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis import silo2d_scan
+from analysis.silo2d import scan as silo2d_scan
 from analysis.common.tables import read_table
 from test_silo2d_analysis import write_feet, write_records, write_table
 
@@ -45,7 +45,7 @@ def test_scan_table_of_two_runs(tmp_path):
         (directory / "silo.txt").write_text(silo)
         runs.append(directory)
     out = tmp_path / "out"
-    result = subprocess.run([sys.executable, "-m", "analysis.silo2d_scan", *map(str, runs),
+    result = subprocess.run([sys.executable, "-m", "analysis.silo2d.scan", *map(str, runs),
                              "--out", str(out)], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     lines = [line for line in (out / "scan_table.md").read_text().splitlines() if line.startswith("| 0.")]
@@ -73,7 +73,7 @@ def test_scan_table_of_two_runs(tmp_path):
 def test_profile_sums_by_hand():
     """d = 1: contacts at (x, h) = (0, 0.5) 10 N, (0, 0.7) 30 N (C, bin 0-1),
     (5, 1.5) 20 N (I, bin 1-2), (13, 0.2) 40 N (W, bin 0-1)."""
-    from analysis import silo2d
+    from analysis.silo2d import clogs as silo2d
     rows = silo2d.profile_sums([0.0, 0.0, 5.0, 13.0], [0.5, 0.7, 1.5, 0.2], [10.0, 30.0, 20.0, 40.0], 1.0)
     # (region, h_low, h_high, n, mean, sum of squared deviations): C 10, 30 -> 20, 200
     assert sorted(rows) == sorted([(0, 0.0, 1.0, 1, 40.0, 0.0), (1, 1.0, 2.0, 1, 20.0, 0.0),
@@ -91,7 +91,7 @@ def test_an_archive_gives_the_scan_of_its_run(tmp_path):
     """A run of two clogs with contacts inside and outside the bulk window:
     its archive keeps only the bulk rows (compressed) and the profiles as
     sums, and the scan table and Fig. 4 data come out the same."""
-    from analysis import silo2d
+    from analysis.silo2d import clogs as silo2d
     from analysis.campaign import silo2d_archive
     run = tmp_path / "run"
     run.mkdir()
@@ -140,7 +140,7 @@ def test_walk_contact_forces_by_hand():
     """One clog: feet 5 (on base grain 100) and 6 (on 101), members 10 and
     11 between them. The walk is 100-5-10-11-6-101; each grain's force is
     the mean of its two walk contacts, whatever its other contacts carry."""
-    from analysis import silo2d
+    from analysis.silo2d import clogs as silo2d
     arches = {"clog": np.array([1, 1]), "order": np.array([1, 2]), "id": np.array([10, 11])}
     feet = {"clog": np.array([1, 1]), "order": np.array([0, 3]), "id": np.array([5, 6]),
             "base": np.array([100, 101])}

@@ -1,5 +1,5 @@
 """A compact copy of a clogging-silo run's records, for doc/data: everything
-analysis.silo2d_scan needs, in a few per cent of the space.
+analysis.silo2d.scan needs, in a few per cent of the space.
 
 contacts.txt holds every grain-grain contact of the silo at every clog
 (about 4500 per clog in the paper's silo, 300 kB of text); of those the
@@ -16,12 +16,12 @@ of height. The archive keeps:
   positions rounded to 7 significant digits and forces to 6, compressed
   with xz;
 - surfaces.txt: per clog, the height of the free surface in d
-  (analysis.silo2d.surface_heights, from all contacts);
+  (analysis.silo2d.clogs.surface_heights, from all contacts);
 - profiles.txt: per region and bin of h/d (width 1), the number of contacts,
   their mean f_n and the sum of squared deviations from it, over all clogs
-  (analysis.silo2d.profile_sums).
+  (analysis.silo2d.clogs.profile_sums).
 
-analysis.silo2d_scan reads an archive as it reads a run directory and
+analysis.silo2d.scan reads an archive as it reads a run directory and
 gives the same table and figures (tests/test_silo2d_scan.py checks it).
 The run's dumps and restart files (the driver's state<k>.restart) are not
 kept: an archive is what doc/data holds of a finished run
@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis import silo2d
+from analysis.silo2d import clogs as silo2d
 from analysis.common.tables import read_table
 
 # contacts.txt's columns (clog id1 id2 x z fn ft arch), positions to 7

@@ -1,7 +1,7 @@
 #!/bin/bash
 # Runs the quasi-2D clogging silo (inputs/silo2d/in.silo2d, the paper's
 # geometry) at mu = 0.4 until NARCHES arches, then draws the eta and phi PDFs
-# and the paper's other figures with analysis/silo2d.py.
+# and the paper's other figures with analysis/silo2d/clogs.py.
 #
 #   bash examples/silo2d/run.sh [RUN_DIR] [extra -var options for the deck]
 #

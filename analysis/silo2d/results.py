@@ -6,11 +6,11 @@ Records: doc/data/silo2d_scan/mu{0.2,0.4,0.8} (the friction scan, about 200
 arches each) and doc/data/silo2d_plate/mu{0.4,0.8}_plate0.3 (the same silo
 with the flat plates' friction at 0.3, the test of the bulk force).
 
-Statistics are those of analysis.silo2d_scan, in the order its command line
+Statistics are those of analysis.silo2d.scan, in the order its command line
 computes them (bootstrap seed 1, the three readings of each run in turn), so
 every number here is also in the table of
 
-    /usr/bin/python3 -m analysis.silo2d_scan doc/data/silo2d_scan/mu0.2 \\
+    /usr/bin/python3 -m analysis.silo2d.scan doc/data/silo2d_scan/mu0.2 \\
         doc/data/silo2d_scan/mu0.4 doc/data/silo2d_scan/mu0.8 --out plots/
 
 (`--arch-force walk` for the arch forces along the walk), except the mean
@@ -23,7 +23,7 @@ the silo are not considered to be members of the bridge" read literally)
 and `outlet` (those, and the end grains resting on an outlet grain alone).
 The angles and forces are those of the plain walk.
 
-    /usr/bin/python3 -m analysis.silo2d_results      # print the rows
+    /usr/bin/python3 -m analysis.silo2d.results      # print the rows
 """
 
 import functools
@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis import silo2d, silo2d_scan
+from analysis.silo2d import clogs as silo2d
+from analysis.silo2d import scan as silo2d_scan
 from analysis.results_tables import DATA_DIR, Row
 
 MUS = (0.2, 0.4, 0.8)
@@ -59,9 +60,9 @@ def _runs(directories):
 
 @functools.lru_cache(maxsize=None)
 def scan_rows(directories, arch_force="all"):
-    """{(mu, reading): analysis.silo2d_scan.summarize row} of the runs in
+    """{(mu, reading): analysis.silo2d.scan.summarize row} of the runs in
     `directories` (a tuple of record directories), as
-    `analysis.silo2d_scan DIRS... [--arch-force walk]` computes them."""
+    `analysis.silo2d.scan DIRS... [--arch-force walk]` computes them."""
     runs = sorted(_runs(directories).values(), key=lambda run: run["geometry"]["mu"])
     rng = np.random.default_rng(1)
     rows = {}
@@ -247,10 +248,10 @@ def main(argv=None):
     import argparse
     from analysis.results_tables import markdown_table
     parser = argparse.ArgumentParser(
-        prog="/usr/bin/python3 -m analysis.silo2d_results",
+        prog="/usr/bin/python3 -m analysis.silo2d.results",
         description="Print the rows of doc/silo2d.md's results table, computed from doc/data "
                     "(about half a minute).",
-        epilog="example: /usr/bin/python3 -m analysis.silo2d_results")
+        epilog="example: /usr/bin/python3 -m analysis.silo2d.results")
     parser.parse_args(argv)
     print(markdown_table(results_rows()), end="")
     return 0

@@ -1,9 +1,9 @@
 """The friction scan of the clogging silo (Hidalgo et al. 2013, R = 3 and
 mu = 0.2, 0.4, 0.8): several record directories of fix clog, one per
-friction coefficient (analysis.silo2d_driver writes them), side by side.
+friction coefficient (analysis.silo2d.driver writes them), side by side.
 
 For each run and each reading of which grains make the arch
-(analysis.silo2d.READINGS), the table gives the arches, eta (mean with its
+(analysis.silo2d.clogs.READINGS), the table gives the arches, eta (mean with its
 Student-t interval, mode, decay rate of the exponential tail), phi (peak,
 defect fraction), <f_n,b> and <f_n,a> in units of m g and their ratio, each
 with a 95 % interval, beside the paper's values; and it draws the paper's
@@ -14,12 +14,12 @@ the phi peak and the force ratio, percentile bootstrap over clogs (the
 grains and contacts of one clog are not independent); the defect fraction,
 Wilson over arch grains (a lower bound on its width, for the same reason);
 <f_n,b> and <f_n,a>, the paper's "95 % confidence interval of an
-exponential distribution" (analysis.silo2d.exponential_mean_ci) and the
+exponential distribution" (analysis.silo2d.clogs.exponential_mean_ci) and the
 bootstrap over clogs beside it. The surface height of the clogged silo
-(analysis.silo2d.surface_heights; the paper's is 80 d) is given too: the
+(analysis.silo2d.clogs.surface_heights; the paper's is 80 d) is given too: the
 bulk window's force depends on its depth.
 
-CLI:  python3 -m analysis.silo2d_scan RUN_DIR [RUN_DIR ...] --out DIR [--reading outlet|members|feet]
+CLI:  python3 -m analysis.silo2d.scan RUN_DIR [RUN_DIR ...] --out DIR [--reading outlet|members|feet]
 """
 
 import argparse
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis import silo2d
+from analysis.silo2d import clogs as silo2d
 from analysis.common.tables import read_table
 
 PHI_BIN = 10.0
@@ -338,7 +338,7 @@ def plot_mobilized_friction(runs, out, reading):
 # ---------------------------------------------------------------- CLI
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d_scan", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d.scan", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dirs", type=Path, nargs="+", help="record directories, one per mu")
     parser.add_argument("--out", type=Path, required=True)

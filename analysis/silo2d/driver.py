@@ -23,7 +23,7 @@ arches, CPU seconds and wall seconds of the segment), state<k>.restart
 (the last two are kept), logs/segment<k>.txt (LIGGGHTS' screen output).
 
 CLI:
-    python3 -m analysis.silo2d_driver --out runs/silo2d --mu 0.2 0.4 0.8 \\
+    python3 -m analysis.silo2d.driver --out runs/silo2d --mu 0.2 0.4 0.8 \\
         --arches 200 --dt 2e-5 --segment-time 20 -j 2
 Environment: SILOKIT_LIGGGHTS (the binary, default build/bin/liggghts) and
 SILOKIT_INPUTS (the inputs/ directory, default the repository's): LIGGGHTS

@@ -641,7 +641,3 @@ def main(argv=None):
                      geo["mu"], geo["d"], args.phi_bin, args.bulk)
     print(f"silo2d: wrote {out / 'table1.md'} and {len(files)} PNGs in {out}", flush=True)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

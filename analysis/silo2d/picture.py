@@ -9,7 +9,7 @@ doc/silo2d_records.md) and the grain positions at that clog: the silo2d
 deck, run with `-var stop_at_first 1`, writes them to clog_state.dump when
 it stops at its first clog.
 
-CLI:  python3 -m analysis.silo2d_picture RECORD_DIR [--dump FILE] [--clog N] [--out FILE]
+CLI:  python3 -m analysis.silo2d.picture RECORD_DIR [--dump FILE] [--clog N] [--out FILE]
 """
 
 import argparse
@@ -92,7 +92,7 @@ def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=1
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d_picture", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d.picture", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("record_dir", type=Path)
     parser.add_argument("--dump", type=Path, default=None, help="grain positions (default RECORD_DIR/clog_state.dump)")

@@ -34,7 +34,7 @@ DATA_DIR = ROOT / "doc" / "data"
 # scene -> (its rows' module, its page)
 SCENES = {
     "silo2d": ("analysis.silo2d.results", "doc/silo2d.md"),
-    "pile2d": ("analysis.pile2d_results", "doc/pile2d.md"),
+    "pile2d": ("analysis.pile2d.results", "doc/pile2d.md"),
     "silo3d_rotating": ("analysis.silo3d_rotating.results", "doc/silo3d_rotating.md"),
 }
 README = "README.md"

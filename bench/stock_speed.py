@@ -139,7 +139,7 @@ class Deck:
 def pile_columns(quick, binary):
     """The L = 50 d pile of bench/pile2d_cost.py (fixed l_c, seed 15485863),
     built once with `binary` and cached under bench/work/."""
-    import pile2d_cost  # scipy, analysis.pile2d: only when the scenes run
+    import pile2d_cost  # scipy, analysis.pile2d.discharges: only when the scenes run
     from analysis.common.lammps_io import read_dump
     pile = benchlib.WORK / "stock_speed" / ("pile_L30" if quick else "pile_L50")
     dump = pile / "pile.restart.dump"

@@ -1,4 +1,4 @@
-"""analysis.pile2d and the driver's record handling on hand-computed inputs."""
+"""analysis.pile2d.discharges and the driver's record handling on hand-computed inputs."""
 
 import math
 import subprocess
@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis import pile2d
+from analysis.pile2d import discharges as pile2d
 from analysis.common.tables import read_rows
-from analysis import pile2d_driver
+from analysis.pile2d import driver as pile2d_driver
 
 ROOT = Path(__file__).resolve().parent.parent
 

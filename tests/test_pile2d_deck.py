@@ -14,7 +14,7 @@ import pytest
 
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
-from analysis.pile2d_driver import prime_seeds
+from analysis.pile2d.driver import prime_seeds
 from conftest import has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
@@ -199,7 +199,7 @@ def test_rolling_resistance_holds_the_pile_over_the_orifice(tmp_path):
 
 # Spreads over piles measured with 10 piles each (doc/pile2d.md, "Is the
 # pile a pile?"): model none with the default substrate_lc 0.1 d, the
-# slope of the flanks (analysis.pile2d_repose) has a standard deviation of
+# slope of the flanks (analysis.pile2d.repose) has a standard deviation of
 # 0.13 at L = 20 d and 0.06 at L = 30 and 50 d; the grains kept at
 # L = 20 d average 52.6 [49.7, 55.5], against 17.5 [15.4, 19.6] on the
 # paper's substrate without it (the pile that spreads).
@@ -214,7 +214,7 @@ def test_pile_without_rolling_resistance_is_a_heap_whose_slope_does_not_depend_o
     (from the measured spreads above). On the paper's substrate without
     rolling resistance there the L = 20 d piles keep 14-24 grains and their
     slope is 0.05 against 0.15 at L = 40 d (interpolated)."""
-    from analysis.pile2d_repose import pile_shape
+    from analysis.pile2d.repose import pile_shape
     slopes = {}
     for length in SLOPE_SD:
         values = []

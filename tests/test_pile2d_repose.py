@@ -1,4 +1,4 @@
-"""analysis.pile2d_repose on hand-built piles: the slope of a staircase
+"""analysis.pile2d.repose on hand-built piles: the slope of a staircase
 heap built to a given angle, a flat layer, and the bottom layer's motion;
 the expected numbers come from the construction, not from the code."""
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from analysis import pile2d_repose
+from analysis.pile2d import repose as pile2d_repose
 
 ROW_HEIGHT = math.sqrt(3) / 2        # rows of touching unit discs, hexagonal
 

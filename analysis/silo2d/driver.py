@@ -45,7 +45,7 @@ import numpy as np
 
 from analysis.common.tables import read_table
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 # LIGGGHTS reads its input file line by line as it runs (and `jump SELF`
 # reads it again): a deck edited while a campaign runs would be read half
 # old, half new. A long campaign should run on a copy (--inputs).

@@ -3,7 +3,7 @@ pile a pile?"): the free surface of each equilibrated pile, its slope and
 angle, and their means with 95 % intervals per (model, L) of one or more
 ensembles.
 
-Reads driver output directories (analysis.pile2d_driver run with
+Reads driver output directories (analysis.pile2d.driver run with
 `--var final_dump=1`, which makes in.build write `<pile>.dump` next to each
 restart file) and pairs each dump with its line of piles.txt.
 
@@ -32,8 +32,8 @@ below 0.75 d) move: mean |v_x| and mean |v_x + omega_z r|, the slip at the
 substrate (0 for a disc rolling without sliding, |v_x| for one sliding
 without turning).
 
-CLI:  python3 -m analysis.pile2d_repose RUN_DIR [RUN_DIR ...] [--peak-margin 10] [--run-on 10 [--run-on-L 20 50] [-j 2]]
-      python3 -m analysis.pile2d_repose --base-motion dump.build 0.0028065
+CLI:  python3 -m analysis.pile2d.repose RUN_DIR [RUN_DIR ...] [--peak-margin 10] [--run-on 10 [--run-on-L 20 50] [-j 2]]
+      python3 -m analysis.pile2d.repose --base-motion dump.build 0.0028065
 """
 
 import argparse
@@ -48,9 +48,9 @@ import numpy as np
 
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
-from analysis.pile2d import mean_std_ci
+from analysis.pile2d.discharges import mean_std_ci
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
@@ -257,9 +257,9 @@ def format_table(summary):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d_repose", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d.repose", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("runs", nargs="*", type=Path, help="analysis.pile2d_driver output directories")
+    parser.add_argument("runs", nargs="*", type=Path, help="analysis.pile2d.driver output directories")
     parser.add_argument("--base-motion", dest="base_motion", nargs=2, metavar=("DUMP", "DT"),
                         help="the bottom layer's motion in the frames of in.build's dump.build")
     parser.add_argument("--run-on", dest="run_on", type=float, default=None, metavar="FACTOR",

@@ -419,7 +419,3 @@ def main(argv=None):
     print(report)
     print("written: " + ", ".join(str(p) for p in [out / "summary.md"] + written))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -4,7 +4,7 @@ doc/data (doc/pile2d.md, "Results against the paper").
 `results_rows(data_dir)` returns the rows of the page's results table
 (analysis.results_tables puts them between the page's markers):
 
-- w_c per model, from `analysis.pile2d.summarize` over the records the
+- w_c per model, from `analysis.pile2d.discharges.summarize` over the records the
   page names: models none and depth from the standing piles
   (pile2d_standing/) with their L = 200 d records (pile2d_L200_none/,
   pile2d_L200_depth/), models fixed and overlap from the first ensemble
@@ -20,7 +20,7 @@ doc/data (doc/pile2d.md, "Results against the paper").
   the spreading piles on the paper's substrate as written, the slope over
   the whole flank and the flank beyond the summit.
 
-    /usr/bin/python3 -m analysis.pile2d_results    # prints the table
+    /usr/bin/python3 -m analysis.pile2d.results    # prints the table
 """
 
 import argparse
@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.common.tables import read_rows
-from analysis.pile2d import PAPER_CRITICAL_WIDTH, mean_std_ci, summarize
+from analysis.pile2d.discharges import PAPER_CRITICAL_WIDTH, mean_std_ci, summarize
 from analysis.results_tables import DATA_DIR, Row, markdown_table
 
 # the page's sections (GitHub anchors of doc/pile2d.md's headings)
@@ -74,7 +74,7 @@ def _cached_summary(data_dir):
 
 
 def ensemble_summary(data_dir=DATA_DIR):
-    """analysis.pile2d.summarize of the four models (cached per directory:
+    """analysis.pile2d.discharges.summarize of the four models (cached per directory:
     the bootstrap takes some 15 CPU-seconds)."""
     return _cached_summary(str(Path(data_dir).resolve()))
 
@@ -226,7 +226,7 @@ def results_rows(data_dir=DATA_DIR):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.pile2d_results",
+    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.pile2d.results",
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("--data", type=Path, default=DATA_DIR, help="the records' folder (default doc/data)")
     args = parser.parse_args(argv)

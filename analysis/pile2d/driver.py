@@ -19,7 +19,7 @@ Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
 discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.
 
 CLI:
-    python3 -m analysis.pile2d_driver --out runs/pile2d --models none overlap fixed \
+    python3 -m analysis.pile2d.driver --out runs/pile2d --models none overlap fixed \
         --L 20 30 --seeds 10 --widths 1 2 3 4 5 6 -j 2
 """
 
@@ -35,7 +35,7 @@ from pathlib import Path
 
 from analysis.common.tables import read_rows
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
@@ -237,7 +237,7 @@ class Runner:
         # the records do not carry every deck variable (--var): each
         # invocation's command line is kept beside them
         with open(self.out / "driver_commands.txt", "a") as handle:
-            handle.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')} python3 -m analysis.pile2d_driver "
+            handle.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')} python3 -m analysis.pile2d.driver "
                          f"{' '.join(self.argv)}\n")
         seeds = a.seed_list or prime_seeds(a.seeds, a.first_seed)
         tasks = [(model, length, seed) for length in a.L for seed in seeds for model in a.models]
@@ -274,7 +274,7 @@ def last_result(path, model, length, w, seed):
 
 
 def parse(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d_driver", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d.driver", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", required=True, help="directory for records, piles and logs")
     parser.add_argument("--models", nargs="+", default=list(MODELS), choices=MODELS)

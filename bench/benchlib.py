@@ -181,13 +181,18 @@ def provenance(extra_load=None):
     return "\n".join(lines)
 
 
+def shown_path(path):
+    """`path` relative to the repository when it lies inside it."""
+    try:
+        return Path(path).relative_to(ROOT)
+    except ValueError:
+        return Path(path)
+
+
 def binary_identity(binary):
     """Path, modification time and sha256 prefix: the binary can be rebuilt
     between two benchmark runs."""
-    try:
-        shown = binary.relative_to(ROOT)
-    except ValueError:
-        shown = binary
+    shown = shown_path(binary)
     stamp = datetime.datetime.fromtimestamp(binary.stat().st_mtime).astimezone()
     digest = hashlib.sha256(binary.read_bytes()).hexdigest()[:12]
     return (f"`{shown}` built {stamp.strftime('%Y-%m-%d %H:%M %Z')}, sha256 {digest}…"

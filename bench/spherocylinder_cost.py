@@ -255,7 +255,8 @@ def main():
         raw = report.raw_text(results, failures, beds, grains, args)
     # the binary can be rebuilt while this runs: then the numbers mix two builds
     if benchlib.binary_identity(benchlib.OUR_BINARY) != ours_at_start:
-        warning = f"WARNING: build/bin/liggghts changed during the measurement (at the start: {ours_at_start})"
+        warning = (f"WARNING: {benchlib.shown_path(benchlib.OUR_BINARY)} changed during the measurement "
+                   f"(at the start: {ours_at_start})")
         benchlib.progress(warning)
         text += f"\n- {warning}"
         raw += f"# {warning}\n"

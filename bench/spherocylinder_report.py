@@ -31,7 +31,7 @@ def stock_section(results, args):
         f"after the insertion (the deck as it is, `run N` and `run 2N`), and **settled**, the "
         f"deck run to {args.stock_settle} steps and then `run N` / `run 2N` appended. "
         f"*before*: `{args.before}` (the commit before the rods, without "
-        f"NONSPHERICAL_ACTIVE_FLAG); *after*: `build/bin/liggghts`.",
+        f"NONSPHERICAL_ACTIVE_FLAG); *after*: `{benchlib.shown_path(benchlib.OUR_BINARY)}`.",
         "",
         f"The third row is the sphere bed of (b) below (d* = {SPHERE_D * 1e3:g} mm, the silo "
         f"deck's hooke/stiffness with absolute damping, five planes), its window of {args.steps} "

@@ -82,7 +82,7 @@ def test_a_pgo_tree_configures_with_its_instrumented_target_and_training_step(tm
     build = tmp_path / "build"
     configure = subprocess.run(
         ["cmake", "-S", str(ROOT), "-B", str(build), f"-DLIGGGHTS_TARBALL={TARBALL}",
-         "-DSILOKIT_PGO=ON", "-DSILOKIT_LTO=ON", "-DSILOKIT_USE_VTK=OFF"],
+         "-DSILOKIT_PGO=ON", "-DSILOKIT_LTO=ON", "-DSILOKIT_USE_VTK=OFF", "-DSILOKIT_LAMMPS=OFF"],
         capture_output=True, text=True)
     assert configure.returncode == 0, configure.stdout + configure.stderr
     assert "profile-guided optimisation on" in configure.stdout
@@ -102,7 +102,7 @@ def test_a_reconfigure_leaves_the_version_header_as_it_was(tmp_path):
     training)."""
     build = tmp_path / "build"
     command = ["cmake", "-S", str(ROOT), "-B", str(build), f"-DLIGGGHTS_TARBALL={TARBALL}",
-               "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_USE_VTK=OFF"]
+               "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_USE_VTK=OFF", "-DSILOKIT_LAMMPS=OFF"]
     header = build / "liggghts" / "src" / "version_liggghts.h"
     stable = '#define LIGGGHTS_VERSION "LIGGGHTS-PUBLIC 3.8.0, with silokit styles"\n'
 

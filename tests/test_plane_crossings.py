@@ -52,7 +52,7 @@ def binary():
         pytest.skip(f"{LIGGGHTS} lacks fix plane/crossings and SILOKIT_EXTEND_BUILD=0: "
                     "build with -DSILOKIT_USER_STYLES=examples/extend to run these tests")
     configure = ["cmake", "-S", str(ROOT), "-B", str(TREE), f"-DSILOKIT_USER_STYLES={EXAMPLE}",
-                 "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF"]
+                 "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_LAMMPS=OFF"]
     if debian_tarball():
         configure.append(f"-DLIGGGHTS_TARBALL={debian_tarball()}")
     jobs = os.environ.get("SILOKIT_BUILD_JOBS", str(os.cpu_count() or 1))
@@ -133,7 +133,7 @@ def configure(tmp_path_factory):
     def run(*user_dirs):
         return subprocess.run(
             ["cmake", "-S", str(ROOT), "-B", str(tree / "build"), f"-DLIGGGHTS_TARBALL={debian_tarball()}",
-             "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_USE_VTK=OFF",
+             "-DSILOKIT_PGO=OFF", "-DSILOKIT_LTO=OFF", "-DSILOKIT_USE_VTK=OFF", "-DSILOKIT_LAMMPS=OFF",
              "-DSILOKIT_USER_STYLES=" + ";".join(str(d) for d in user_dirs)],
             capture_output=True, text=True)
     return run

@@ -10,10 +10,31 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "pair_granular_jiang.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+Pair *granular_jiang_creator(LAMMPS *lmp)
+{
+  return new PairGranularJiang(lmp);
+}
+
+}    // namespace
+
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
-  // registers each LAMMPS style of ours (none yet: pair granular/jiang comes next)
-  (void) lmp;
-  (void) handle;
-  (void) regfunc;
+  lammpsplugin_t plugin;
+  lammpsplugin_regfunc register_plugin = (lammpsplugin_regfunc) regfunc;
+
+  plugin.version = LAMMPS_VERSION;
+  plugin.author = "silokit";
+  plugin.handle = handle;
+
+  plugin.style = "pair";
+  plugin.name = "granular/jiang";
+  plugin.info = "silokit: LIGGGHTS' hooke contact law with Jiang's rolling resistance";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &granular_jiang_creator;
+  (*register_plugin)(&plugin, lmp);
 }

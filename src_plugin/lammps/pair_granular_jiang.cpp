@@ -1,0 +1,657 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   and LAMMPS. GPL-2.0-or-later, like both hosts.
+
+   pair_style granular/jiang (doc/pair_granular_jiang.md). The neighbor
+   list, FixNeighHistory and cutoff handling follow LAMMPS'
+   pair_gran_hooke_history.cpp (LAMMPS 20220106); the contact itself is
+   core/contact_law.h and core/rolling_law_jiang.h, called in the order of
+   LIGGGHTS' pair gran (normal model, tangential model, rolling model).
+------------------------------------------------------------------------- */
+
+#include "pair_granular_jiang.h"
+
+#include "contact_law.h"
+#include "rolling_law_jiang.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "fix_dummy.h"
+#include "fix_neigh_history.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+const char *const STYLE = "pair_coeff granular/jiang";
+
+// a number for `keyword`, or an ERROR naming the keyword and the text
+double parse_number(Error *error, const std::string &keyword, const char *text)
+{
+  char *end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value))
+    error->all(FLERR, "{}: {} expects a number, got '{}'", STYLE, keyword, text);
+  return value;
+}
+
+double parse_yes_no(Error *error, const std::string &keyword, const char *text)
+{
+  if (std::strcmp(text, "yes") == 0) return 1.0;
+  if (std::strcmp(text, "no") == 0) return 0.0;
+  error->all(FLERR, "{}: {} expects yes or no, got '{}'", STYLE, keyword, text);
+  return 0.0;
+}
+
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+PairGranularJiang::PairGranularJiang(LAMMPS *lmp) : Pair(lmp)
+{
+  single_enable = 1;
+  no_virial_fdotr_compute = 1;
+  centroidstressflag = CENTROID_NOTAVAIL;
+  finitecutflag = 1;
+  restartinfo = 1;
+  // the stored k_r keeps its sign when j takes the pair over from i
+  nondefault_history_transfer = 1;
+
+  // compute pair/local and compute fabric read svector: fs1..3, fs, vn1..3, vt1..3
+  single_extra = 10;
+  svector = new double[single_extra];
+
+  stride = 0;
+  freeze_group_bit = 0;
+  neighprev = 0;
+  onerad_dynamic = onerad_frozen = maxrad_dynamic = maxrad_frozen = nullptr;
+
+  // a placeholder for FixNeighHistory, so that the fix order stays that of
+  // the input script (replaced in init_style)
+  fix_history = nullptr;
+  fix_dummy = (FixDummy *) modify->add_fix(history_id() + "_DUMMY all DUMMY");
+}
+
+/* ---------------------------------------------------------------------- */
+
+PairGranularJiang::~PairGranularJiang()
+{
+  if (copymode) return;
+  delete[] svector;
+  if (!fix_history)
+    modify->delete_fix(history_id() + "_DUMMY");
+  else
+    modify->delete_fix(history_id());
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    delete[] onerad_dynamic;
+    delete[] onerad_frozen;
+    delete[] maxrad_dynamic;
+    delete[] maxrad_frozen;
+  }
+}
+
+std::string PairGranularJiang::history_id() const
+{
+  return "NEIGH_HISTORY_GRANULAR_JIANG" + std::to_string(instance_me);
+}
+
+/* ----------------------------------------------------------------------
+   one contact of i and j (touching), with the pair's history; the history
+   is advanced only when advance is true
+------------------------------------------------------------------------- */
+
+void PairGranularJiang::contact(int i, int j, const Coeff &c, double *history, bool advance,
+                                Result &out)
+{
+  namespace law = silokit::contact;
+  namespace jiang = silokit::jiang;
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double **omega = atom->omega;
+  const double radi = atom->radius[i];
+  const double radj = atom->radius[j];
+  const double mi = atom->rmass[i];
+  const double mj = atom->rmass[j];
+  const int *mask = atom->mask;
+
+  const law::Kinematics k =
+      law::pair_kinematics(x[i], x[j], v[i], v[j], omega[i], omega[j], radi, radj);
+
+  // a grain of the freeze group counts as infinitely heavy
+  double meff = law::pair_effective_mass(mi, mj);
+  if (mask[i] & freeze_group_bit) meff = mj;
+  if (mask[j] & freeze_group_bit) meff = mi;
+
+  law::NormalSpring spring;
+  if (c.normal_model == NORMAL_HOOKE)
+    spring = law::hooke(c.youngs_effective, c.restitution, c.characteristic_velocity, meff,
+                            law::pair_effective_radius(radi, radj),
+                            c.tangential_damping != 0.0);
+  else
+    spring = law::hooke_stiffness(c.kn, c.kt, c.gamman, c.gammat, meff,
+                                      c.absolute_damping != 0.0, c.tangential_damping != 0.0);
+
+  const double dt = update->dt;
+  const law::ContactForces f = law::contact_forces(
+      k, spring, c.mu, dt, c.limit_force != 0.0, advance, &history[HISTORY_SHEAR]);
+
+  for (int d = 0; d < 3; ++d) {
+    out.force_i[d] = f.force_i[d];
+    out.torque_i[d] = f.torque_i[d];
+    out.torque_j[d] = f.torque_j[d];
+    out.ft[d] = f.ft[d];
+    out.n[d] = k.n[d];
+  }
+  out.fn = f.fn;
+  out.vn = k.vn;
+  out.rinv = k.rinv;
+
+  if (c.rolling == 0.0) return;
+
+  // Jiang's rolling spring, as rolling_model_jiang.h drives it in LIGGGHTS
+  double relative_omega[3];
+  for (int d = 0; d < 3; ++d) relative_omega[d] = omega[i][d] - omega[j][d];
+  jiang::remove_normal_component(relative_omega, k.n);
+
+  double contact_length;
+  if (c.length_mode == LENGTH_DEPTH)
+    contact_length = std::max(k.overlap, 0.0);
+  else if (c.length_mode == LENGTH_OVERLAP)
+    contact_length = jiang::overlap_contact_length(radi, radj, k.r);
+  else {
+    contact_length = c.contact_length;
+    const double smallest_diameter = 2.0 * std::min(radi, radj);
+    if (contact_length > smallest_diameter)
+      error->one(FLERR,
+                 "pair granular/jiang: rolling jiang lc {} for types {} {} is larger than the "
+                 "diameter {} of a grain in contact",
+                 contact_length, atom->type[i], atom->type[j], smallest_diameter);
+  }
+
+  const jiang::RollingSpring rolling = jiang::rolling_spring(
+      spring.kn, k.overlap, c.mu, contact_length, c.stiffness_factor, c.friction_factor);
+
+  double *stored = &history[HISTORY_ROLLING];
+  double angle[3] = {stored[0], stored[1], stored[2]};
+  if (advance) {
+    jiang::rotate_into_tangent_plane(angle, k.n);
+    jiang::adapt_to_stiffness(angle, history[HISTORY_STIFFNESS], rolling.stiffness);
+    for (int d = 0; d < 3; ++d) angle[d] += relative_omega[d] * dt;
+  }
+  double torque[3];
+  const bool rolls = jiang::spring_torque(angle, rolling.stiffness, rolling.torque_limit, torque);
+  if (advance) {
+    for (int d = 0; d < 3; ++d) stored[d] = angle[d];
+    history[HISTORY_STIFFNESS] = rolling.stiffness;
+  }
+
+  // viscous rolling damping on the elastic branch only (as epsd3 and the
+  // LIGGGHTS model): reduced inertia about the contact point, disc 3/2 m r^2,
+  // sphere 7/5 m r^2
+  if (c.rolling_damping > 0.0 && !rolls) {
+    const double factor = domain->dimension == 2 ? 1.5 : 1.4;
+    const double inertia_i = factor * mi * radi * radi;
+    const double inertia_j = factor * mj * radj * radj;
+    const double inertia = inertia_i * inertia_j / (inertia_i + inertia_j);
+    const double damping = c.rolling_damping * 2.0 * std::sqrt(inertia * rolling.stiffness);
+    for (int d = 0; d < 3; ++d) torque[d] -= damping * relative_omega[d];
+  }
+
+  for (int d = 0; d < 3; ++d) {
+    out.torque_i[d] += torque[d];
+    out.torque_j[d] -= torque[d];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairGranularJiang::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  // the force call of a run's set-up reads the history without advancing
+  // it, as LAMMPS' gran/hooke/history and LIGGGHTS' models do
+  const bool update_history = !update->setupflag;
+
+  double **x = atom->x;
+  double **f = atom->f;
+  double **torque = atom->torque;
+  double *radius = atom->radius;
+  int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+
+  const int inum = list->inum;
+  int *ilist = list->ilist;
+  int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  int **firsttouch = fix_history->firstflag;
+  double **firsthistory = fix_history->firstvalue;
+
+  Result r;
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xtmp = x[i][0];
+    const double ytmp = x[i][1];
+    const double ztmp = x[i][2];
+    const double radi = radius[i];
+    int *touch = firsttouch[i];
+    double *allhistory = firsthistory[i];
+    int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double delx = xtmp - x[j][0];
+      const double dely = ytmp - x[j][1];
+      const double delz = ztmp - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const double radsum = radi + radius[j];
+      double *history = &allhistory[HISTORY_SIZE * jj];
+
+      if (rsq >= radsum * radsum) {
+        // apart: the next contact of this pair starts unloaded
+        touch[jj] = 0;
+        for (int m = 0; m < HISTORY_SIZE; m++) history[m] = 0.0;
+        continue;
+      }
+
+      touch[jj] = 1;
+      contact(i, j, coeffs[type[i] * stride + type[j]], history, update_history, r);
+
+      for (int d = 0; d < 3; ++d) {
+        f[i][d] += r.force_i[d];
+        torque[i][d] += r.torque_i[d];
+      }
+      if (newton_pair || j < nlocal) {
+        for (int d = 0; d < 3; ++d) {
+          f[j][d] -= r.force_i[d];
+          torque[j][d] += r.torque_j[d];
+        }
+      }
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, r.force_i[0], r.force_i[1],
+                     r.force_i[2], delx, dely, delz);
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairGranularJiang::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  stride = n + 1;
+  coeffs.assign(stride * stride, Coeff());
+  onerad_dynamic = new double[n + 1];
+  onerad_frozen = new double[n + 1];
+  maxrad_dynamic = new double[n + 1];
+  maxrad_frozen = new double[n + 1];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairGranularJiang::settings(int narg, char **)
+{
+  if (narg != 0)
+    error->all(FLERR,
+               "pair_style granular/jiang takes no arguments: the contact law goes to pair_coeff "
+               "(doc/pair_granular_jiang.md)");
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J normal hooke/stiffness kn kt gamman gammat
+                  | normal hooke Y nu e v_char
+                  friction mu
+                  [rolling jiang a b lc <length | overlap | depth>]
+                  [rolling_damping eta] [tangential_damping yes|no]
+                  [absolute_damping yes|no] [limit_force yes|no]
+------------------------------------------------------------------------- */
+
+void PairGranularJiang::coeff(int narg, char **arg)
+{
+  if (narg < 2) error->all(FLERR, "{}: expected I J and keywords", STYLE);
+  if (!allocated) allocate();
+
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  // LIGGGHTS' defaults: tangential damping on, damping relative to meff,
+  // no force limit, no rolling resistance
+  Coeff c;
+  std::memset(&c, 0, sizeof(c));
+  c.normal_model = -1.0;
+  c.mu = -1.0;
+  c.tangential_damping = 1.0;
+  c.length_mode = LENGTH_FIXED;
+
+  // arg[iarg] is the keyword; checks that it has `count` values after it
+  auto need = [&](int iarg, int count, const std::string &what) {
+    if (iarg + count >= narg)
+      error->all(FLERR, "{}: {} needs {} value{}", STYLE, what, count, count > 1 ? "s" : "");
+  };
+
+  int iarg = 2;
+  while (iarg < narg) {
+    const std::string keyword = arg[iarg];
+    if (keyword == "normal") {
+      need(iarg, 1, "normal");
+      const std::string model = arg[iarg + 1];
+      if (model == "hooke/stiffness") {
+        need(iarg + 1, 4, "normal hooke/stiffness (kn kt gamman gammat)");
+        c.normal_model = NORMAL_HOOKE_STIFFNESS;
+        c.kn = parse_number(error, "normal hooke/stiffness kn", arg[iarg + 2]);
+        c.kt = parse_number(error, "normal hooke/stiffness kt", arg[iarg + 3]);
+        c.gamman = parse_number(error, "normal hooke/stiffness gamman", arg[iarg + 4]);
+        c.gammat = parse_number(error, "normal hooke/stiffness gammat", arg[iarg + 5]);
+        if (!(c.kn > 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kn must be > 0", STYLE);
+        if (!(c.kt >= 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kt must be >= 0", STYLE);
+        if (!(c.gamman >= 0.0))
+          error->all(FLERR, "{}: normal hooke/stiffness gamman must be >= 0", STYLE);
+        if (!(c.gammat >= 0.0))
+          error->all(FLERR, "{}: normal hooke/stiffness gammat must be >= 0", STYLE);
+        iarg += 6;
+      } else if (model == "hooke") {
+        need(iarg + 1, 4, "normal hooke (Y nu e v_char)");
+        c.normal_model = NORMAL_HOOKE;
+        c.youngs = parse_number(error, "normal hooke Y", arg[iarg + 2]);
+        c.poisson = parse_number(error, "normal hooke nu", arg[iarg + 3]);
+        c.restitution = parse_number(error, "normal hooke e", arg[iarg + 4]);
+        c.characteristic_velocity = parse_number(error, "normal hooke v_char", arg[iarg + 5]);
+        if (!(c.youngs > 0.0)) error->all(FLERR, "{}: normal hooke Y must be > 0", STYLE);
+        if (!(c.poisson > -1.0 && c.poisson <= 0.5))
+          error->all(FLERR, "{}: normal hooke nu must be in (-1, 0.5]", STYLE);
+        if (!(c.restitution > 0.0 && c.restitution <= 1.0))
+          error->all(FLERR, "{}: normal hooke e must be in (0, 1]", STYLE);
+        if (!(c.characteristic_velocity > 0.0))
+          error->all(FLERR, "{}: normal hooke v_char must be > 0", STYLE);
+        c.youngs_effective =
+            silokit::contact::effective_youngs_modulus(c.youngs, c.poisson, c.youngs, c.poisson);
+        iarg += 6;
+      } else {
+        error->all(FLERR, "{}: unknown normal model '{}' (hooke/stiffness or hooke)", STYLE,
+                   model);
+      }
+    } else if (keyword == "friction") {
+      need(iarg, 1, "friction");
+      c.mu = parse_number(error, "friction", arg[iarg + 1]);
+      if (!(c.mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
+      iarg += 2;
+    } else if (keyword == "rolling") {
+      need(iarg, 1, "rolling");
+      const std::string model = arg[iarg + 1];
+      if (model == "none") {
+        c.rolling = 0.0;
+        iarg += 2;
+        continue;
+      }
+      if (model != "jiang")
+        error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
+      need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
+      c.rolling = 1.0;
+      c.stiffness_factor = parse_number(error, "rolling jiang a", arg[iarg + 2]);
+      c.friction_factor = parse_number(error, "rolling jiang b", arg[iarg + 3]);
+      if (!(c.stiffness_factor > 0.0))
+        error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
+      if (!(c.friction_factor > 0.0))
+        error->all(FLERR, "{}: rolling jiang b (friction factor) must be > 0", STYLE);
+      if (std::strcmp(arg[iarg + 4], "lc") != 0)
+        error->all(FLERR, "{}: rolling jiang a b is followed by lc, got '{}'", STYLE,
+                   arg[iarg + 4]);
+      const std::string length = arg[iarg + 5];
+      if (length == "overlap")
+        c.length_mode = LENGTH_OVERLAP;
+      else if (length == "depth")
+        c.length_mode = LENGTH_DEPTH;
+      else {
+        c.length_mode = LENGTH_FIXED;
+        c.contact_length = parse_number(error, "rolling jiang lc", arg[iarg + 5]);
+        if (!(c.contact_length >= 0.0))
+          error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
+                     "overlap or depth", STYLE);
+      }
+      iarg += 6;
+    } else if (keyword == "rolling_damping") {
+      need(iarg, 1, "rolling_damping");
+      c.rolling_damping = parse_number(error, "rolling_damping", arg[iarg + 1]);
+      if (!(c.rolling_damping >= 0.0))
+        error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
+      iarg += 2;
+    } else if (keyword == "tangential_damping") {
+      need(iarg, 1, "tangential_damping");
+      c.tangential_damping = parse_yes_no(error, "tangential_damping", arg[iarg + 1]);
+      iarg += 2;
+    } else if (keyword == "absolute_damping") {
+      need(iarg, 1, "absolute_damping");
+      c.absolute_damping = parse_yes_no(error, "absolute_damping", arg[iarg + 1]);
+      iarg += 2;
+    } else if (keyword == "limit_force") {
+      need(iarg, 1, "limit_force");
+      c.limit_force = parse_yes_no(error, "limit_force", arg[iarg + 1]);
+      iarg += 2;
+    } else {
+      error->all(FLERR,
+                 "{}: unknown keyword '{}' (normal, friction, rolling, rolling_damping, "
+                 "tangential_damping, absolute_damping, limit_force)",
+                 STYLE, keyword);
+    }
+  }
+
+  if (c.normal_model < 0.0)
+    error->all(FLERR, "{}: normal is required (hooke/stiffness or hooke)", STYLE);
+  if (c.mu < 0.0) error->all(FLERR, "{}: friction is required", STYLE);
+  if (c.rolling_damping > 0.0 && c.rolling == 0.0)
+    error->all(FLERR, "{}: rolling_damping needs rolling jiang", STYLE);
+  if (c.normal_model == NORMAL_HOOKE && c.absolute_damping != 0.0)
+    error->all(FLERR, "{}: absolute_damping applies to normal hooke/stiffness only", STYLE);
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      coeff_of(i, j) = c;
+      coeff_of(j, i) = c;
+      setflag[i][j] = 1;
+      count++;
+    }
+  }
+  if (count == 0) error->all(FLERR, "{}: no type pair in {} {}", STYLE, arg[0], arg[1]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairGranularJiang::init_style()
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR,
+               "pair granular/jiang needs atom attributes radius, rmass, omega and torque "
+               "(atom_style sphere)");
+  if (comm->ghost_velocity == 0)
+    error->all(FLERR, "pair granular/jiang needs ghost velocities: comm_modify vel yes");
+
+  // a granular neighbor list with history
+  const int irequest = neighbor->request(this, instance_me);
+  neighbor->requests[irequest]->size = 1;
+  neighbor->requests[irequest]->history = 1;
+
+  // the first init replaces the placeholder with the fix that keeps the
+  // history per pair (across reneighboring, MPI exchange and restarts)
+  if (fix_history == nullptr) {
+    const std::string cmd = fmt::format("{} all NEIGH_HISTORY {}", history_id(), (int) HISTORY_SIZE);
+    fix_history = (FixNeighHistory *) modify->replace_fix(history_id() + "_DUMMY", cmd, 1);
+    fix_history->pair = this;
+    fix_dummy = nullptr;
+  }
+  const int ifix = modify->find_fix(history_id());
+  if (ifix < 0) error->all(FLERR, "pair granular/jiang: its fix {} is gone", history_id());
+  fix_history = (FixNeighHistory *) modify->fix[ifix];
+
+  const int ifreeze = modify->find_fix_by_style("^freeze");
+  freeze_group_bit = ifreeze < 0 ? 0 : modify->fix[ifreeze]->groupbit;
+
+  // the largest radius per type, of moving and of frozen grains, for the
+  // cutoffs; grains that fix pour or deposit will insert count as moving
+  const int ipour = modify->find_fix_by_style("^pour");
+  const int idep = modify->find_fix_by_style("^deposit");
+  for (int i = 1; i <= atom->ntypes; i++) {
+    onerad_dynamic[i] = onerad_frozen[i] = 0.0;
+    int itype = i;
+    if (ipour >= 0) onerad_dynamic[i] = *((double *) modify->fix[ipour]->extract("radius", itype));
+    itype = i;
+    if (idep >= 0) onerad_dynamic[i] = *((double *) modify->fix[idep]->extract("radius", itype));
+  }
+  double *radius = atom->radius;
+  int *mask = atom->mask;
+  int *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) {
+    double &slot = (mask[i] & freeze_group_bit) ? onerad_frozen[type[i]] : onerad_dynamic[type[i]];
+    slot = MAX(slot, radius[i]);
+  }
+  MPI_Allreduce(&onerad_dynamic[1], &maxrad_dynamic[1], atom->ntypes, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(&onerad_frozen[1], &maxrad_frozen[1], atom->ntypes, MPI_DOUBLE, MPI_MAX, world);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairGranularJiang::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0)
+    error->all(FLERR,
+               "pair granular/jiang: no pair_coeff for types {} {} (no mixing: give every "
+               "type pair)",
+               i, j);
+  // sum of the largest radii, moving/moving and moving/frozen
+  double cutoff = maxrad_dynamic[i] + maxrad_dynamic[j];
+  cutoff = MAX(cutoff, maxrad_frozen[i] + maxrad_dynamic[j]);
+  cutoff = MAX(cutoff, maxrad_dynamic[i] + maxrad_frozen[j]);
+  return cutoff;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairGranularJiang::write_restart(FILE *fp)
+{
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) fwrite(&coeff_of(i, j), sizeof(Coeff), 1, fp);
+    }
+}
+
+void PairGranularJiang::read_restart(FILE *fp)
+{
+  allocate();
+  const int me = comm->me;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (!setflag[i][j]) continue;
+      Coeff c;
+      if (me == 0) utils::sfread(FLERR, &c, sizeof(Coeff), 1, fp, nullptr, error);
+      MPI_Bcast(&c, sizeof(Coeff), MPI_BYTE, 0, world);
+      coeff_of(i, j) = c;
+      coeff_of(j, i) = c;
+    }
+}
+
+/* ----------------------------------------------------------------------
+   FixNeighHistory hands the pair from i to j: the springs change sign,
+   the stored k_r does not
+------------------------------------------------------------------------- */
+
+void PairGranularJiang::transfer_history(double *source, double *target)
+{
+  for (int m = 0; m < HISTORY_STIFFNESS; m++) target[m] = -source[m];
+  target[HISTORY_STIFFNESS] = source[HISTORY_STIFFNESS];
+}
+
+/* ----------------------------------------------------------------------
+   the pair's force without advancing its history (compute pair/local,
+   compute fabric): fforce = Fn/r, svector = fs1..3, |fs|, vn1..3, vt1..3
+------------------------------------------------------------------------- */
+
+double PairGranularJiang::single(int i, int j, int itype, int jtype, double rsq,
+                                 double /*factor_coul*/, double /*factor_lj*/, double &fforce)
+{
+  const double radsum = atom->radius[i] + atom->radius[j];
+  if (rsq >= radsum * radsum) {
+    fforce = 0.0;
+    for (int m = 0; m < single_extra; m++) svector[m] = 0.0;
+    return 0.0;
+  }
+
+  // this pair's history: search i's neighbors for j, from where the last
+  // call stopped (calls usually come in neighbor order)
+  const int jnum = list->numneigh[i];
+  int *jlist = list->firstneigh[i];
+  double stored[HISTORY_SIZE] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int jj = 0; jj < jnum; jj++) {
+    neighprev++;
+    if (neighprev >= jnum) neighprev = 0;
+    if ((jlist[neighprev] & NEIGHMASK) == j) {
+      const double *history = &fix_history->firstvalue[i][HISTORY_SIZE * neighprev];
+      for (int m = 0; m < HISTORY_SIZE; m++) stored[m] = history[m];
+      break;
+    }
+  }
+
+  Result r;
+  contact(i, j, coeff_of(itype, jtype), stored, false, r);
+  fforce = r.fn * r.rinv;
+
+  double **v = atom->v;
+  double vt[3];
+  for (int d = 0; d < 3; ++d) vt[d] = (v[i][d] - v[j][d]) - r.vn * r.n[d];
+  svector[0] = r.ft[0];
+  svector[1] = r.ft[1];
+  svector[2] = r.ft[2];
+  svector[3] = std::sqrt(r.ft[0] * r.ft[0] + r.ft[1] * r.ft[1] + r.ft[2] * r.ft[2]);
+  svector[4] = r.vn * r.n[0];
+  svector[5] = r.vn * r.n[1];
+  svector[6] = r.vn * r.n[2];
+  svector[7] = vt[0];
+  svector[8] = vt[1];
+  svector[9] = vt[2];
+  return 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairGranularJiang::memory_usage()
+{
+  return (double) coeffs.size() * sizeof(Coeff);
+}
+
+double PairGranularJiang::atom2cut(int i)
+{
+  return atom->radius[i] * 2.0;
+}
+
+double PairGranularJiang::radii2cut(double r1, double r2)
+{
+  return r1 + r2;
+}

@@ -1,0 +1,95 @@
+/* ----------------------------------------------------------------------
+   silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
+   and LAMMPS. GPL-2.0-or-later, like both hosts.
+
+   pair_style granular/jiang for LAMMPS (a plugin style, loaded with
+   `plugin load silokit_lammps.so`): spheres with LIGGGHTS' contact law
+   (`model hooke/stiffness` or `model hooke`, `tangential history`;
+   core/contact_law.h) and Jiang's rolling resistance (`rolling_friction
+   jiang`; core/rolling_law_jiang.h), so that a contact computes the same
+   numbers in both hosts. Documentation: doc/pair_granular_jiang.md.
+
+   Derived from LAMMPS' core Pair class, not from PairGranular (whose
+   models and history are private in LAMMPS 20220106 and were rewritten
+   in 2023): per-pair history through the core FixNeighHistory, as
+   LAMMPS' gran/hooke/history keeps it.
+------------------------------------------------------------------------- */
+
+#ifndef SILOKIT_LAMMPS_PAIR_GRANULAR_JIANG_H
+#define SILOKIT_LAMMPS_PAIR_GRANULAR_JIANG_H
+
+#include "pair.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairGranularJiang : public Pair {
+ public:
+  // the coefficients of one type pair (pair_coeff I J ...); plain data,
+  // written to restart files as it is
+  struct Coeff {
+    double normal_model;                 // NORMAL_HOOKE_STIFFNESS or NORMAL_HOOKE
+    double kn, kt, gamman, gammat;       // hooke/stiffness
+    double youngs, poisson, restitution, characteristic_velocity;   // hooke
+    double youngs_effective;             // hooke: Y* of the pair
+    double absolute_damping, tangential_damping, limit_force;      // 0 or 1
+    double mu;                           // Coulomb friction
+    double rolling;                      // 0: none, 1: jiang
+    double stiffness_factor, friction_factor;   // Jiang's a, b
+    double length_mode;                  // LENGTH_FIXED, LENGTH_OVERLAP, LENGTH_DEPTH
+    double contact_length;               // l_c of LENGTH_FIXED
+    double rolling_damping;              // viscous rolling damping ratio (0: none)
+  };
+  enum { NORMAL_HOOKE_STIFFNESS = 0, NORMAL_HOOKE = 1 };
+  enum { LENGTH_FIXED = 0, LENGTH_OVERLAP = 1, LENGTH_DEPTH = 2 };
+  // per-pair history: tangential spring (3), rolling angle (3), k_r of the
+  // last step (1)
+  enum { HISTORY_SHEAR = 0, HISTORY_ROLLING = 3, HISTORY_STIFFNESS = 6, HISTORY_SIZE = 7 };
+
+  PairGranularJiang(class LAMMPS *);
+  ~PairGranularJiang() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  double single(int, int, int, int, double, double, double, double &) override;
+  void transfer_history(double *, double *) override;
+  double memory_usage() override;
+  double atom2cut(int) override;
+  double radii2cut(double, double) override;
+
+ protected:
+  std::vector<Coeff> coeffs;     // (ntypes+1)^2, symmetric
+  int freeze_group_bit;
+  int neighprev;                 // single(): where the last neighbor was found
+  double *onerad_dynamic, *onerad_frozen;
+  double *maxrad_dynamic, *maxrad_frozen;
+  class FixDummy *fix_dummy;
+  class FixNeighHistory *fix_history;
+
+  // what one contact gives (compute and single)
+  struct Result {
+    double force_i[3];           // on i; j gets the opposite
+    double torque_i[3], torque_j[3];
+    double fn;                   // normal force, > 0 repulsive
+    double ft[3];                // tangential force on i
+    double vn;                   // (v_i - v_j).n
+    double n[3];
+    double rinv;
+  };
+  void contact(int i, int j, const Coeff &c, double *history, bool advance, Result &out);
+
+  int stride;                    // ntypes + 1, the row length of coeffs
+  Coeff &coeff_of(int i, int j) { return coeffs[i * stride + j]; }
+  void allocate();
+  std::string history_id() const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

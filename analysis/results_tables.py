@@ -20,13 +20,13 @@ tests/test_results_tables.py runs the check, so a table cannot drift from
 the records behind it.
 """
 
-import argparse
 import functools
 import importlib
 import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from analysis.common.cli import command_line
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA_DIR = ROOT / "doc" / "data"
@@ -141,10 +141,8 @@ def write_blocks(root=ROOT, data_dir=DATA_DIR, scenes=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
-        description=__doc__.split("\n\n")[0],
-        epilog="example: /usr/bin/python3 -m analysis.results_tables --check",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.results_tables", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.results_tables --check")
     action = parser.add_mutually_exclusive_group(required=True)
     action.add_argument("--check", action="store_true", help="exit 1 naming the tables that differ from doc/data")
     action.add_argument("--write", action="store_true", help="rewrite the tables from doc/data")

@@ -52,7 +52,7 @@ def run_driver(out, length, seeds, widths, fractions_value, model="fixed"):
     """The ensemble driver (resumable) for one time step; returns the CPU
     seconds its LIGGGHTS runs took (0 when everything was already done)."""
     before = children_cpu()
-    command = [sys.executable, "-m", "analysis.pile2d.driver", "--out", str(out), "--models", model,
+    command = [sys.executable, "-m", "analysis.pile2d.driver", "--campaign", str(out), "--models", model,
                "--L", str(length), "--seeds", str(seeds), "--widths"] + [str(w) for w in widths] + \
               ["--dt-fraction", str(fractions_value), "-j", "1"]
     subprocess.run(command, cwd=benchlib.ROOT, check=True)

@@ -205,9 +205,9 @@ def test_driver_reads_done_samples_and_ignores_a_cut_line(tmp_path):
 
 def test_driver_refuses_bad_seeds_and_vars():
     with pytest.raises(SystemExit):
-        pile2d_driver.parse(["--out", "x", "--L", "20", "--widths", "1", "--seed-list", "15485864"])
+        pile2d_driver.parse(["--campaign", "x", "--L", "20", "--widths", "1", "--seed-list", "15485864"])
     with pytest.raises(SystemExit):
-        pile2d_driver.parse(["--out", "x", "--L", "20", "--widths", "1", "--var", "quick"])
+        pile2d_driver.parse(["--campaign", "x", "--L", "20", "--widths", "1", "--var", "quick"])
 
 
 def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tmp_path, monkeypatch):
@@ -221,13 +221,13 @@ def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tm
         pile2d_driver.DISCHARGES_HEADER + "\n" +
         "".join(f"fixed 20.0 {w} {seed} 0 100 5.1 120 {w} 50 1 25 0.3 0.3\n" for w in (3.0, 4.0)))
     monkeypatch.setattr(pile2d_driver, "BINARY", tmp_path / "no_such_liggghts")
-    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+    args = pile2d_driver.parse(["--campaign", str(tmp_path), "--models", "fixed", "--L", "20",
                                 "--seeds", "1", "--widths", "3", "4"])
     runner = pile2d_driver.Runner(args)
     assert runner.run() == []
     assert runner.total == 0 and runner.done == 0
     # one width more: the pile is rebuilt for it (and LIGGGHTS is called)
-    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+    args = pile2d_driver.parse(["--campaign", str(tmp_path), "--models", "fixed", "--L", "20",
                                 "--seeds", "1", "--widths", "3", "4", "5"])
     runner = pile2d_driver.Runner(args)
     failures = runner.run()
@@ -270,7 +270,7 @@ def fake_record_without_restart(tmp_path, monkeypatch, n_pile):
     monkeypatch.setattr(pile2d_driver, "BINARY", binary)
     monkeypatch.setenv("FAKE_N_PILE", str(n_pile))
     monkeypatch.setenv("FAKE_PILES_HEADER", pile2d_driver.PILES_HEADER)
-    args = pile2d_driver.parse(["--out", str(tmp_path), "--models", "fixed", "--L", "20",
+    args = pile2d_driver.parse(["--campaign", str(tmp_path), "--models", "fixed", "--L", "20",
                                 "--seeds", "1", "--widths", "3", "4"])
     return pile2d_driver.Runner(args), seed
 

@@ -121,7 +121,7 @@ def test_stop_at_first_leaves_the_clogged_silo_for_a_picture(tmp_path):
     for member, x, z in zip(arches["id"], arches["x"], arches["z"]):
         assert math.hypot(where[int(member)][0] - x, where[int(member)][1] - z) < 1e-3 * D
     picture = subprocess.run([sys.executable, "-m", "analysis.silo2d.picture", str(tmp_path),
-                              "--out", str(tmp_path / "arch.png")],
+                              "--figure", str(tmp_path / "arch.png")],
                              cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert picture.returncode == 0, picture.stderr
     assert (tmp_path / "arch.png").stat().st_size > 10000

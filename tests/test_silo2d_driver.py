@@ -28,7 +28,7 @@ CAMPAIGN = ["--mu", "0.4", "--arches", "4", "--quick", "--dt", "2e-5", "--segmen
 
 
 def driver_command(out, options=CAMPAIGN):
-    return [sys.executable, "-m", "analysis.silo2d.driver", "--out", str(out)] + list(options)
+    return [sys.executable, "-m", "analysis.silo2d.driver", "--campaign", str(out)] + list(options)
 
 
 def driver_environment(binary):
@@ -126,4 +126,4 @@ def test_a_campaign_refuses_other_parameters(liggghts_binary, tmp_path):
 ])
 def test_bad_options_are_refused(tmp_path, option, message):
     with pytest.raises(SystemExit):
-        silo2d_driver.parse(["--out", str(tmp_path), "--mu", "0.4", "--arches", "3"] + option)
+        silo2d_driver.parse(["--campaign", str(tmp_path), "--mu", "0.4", "--arches", "3"] + option)

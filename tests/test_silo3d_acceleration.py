@@ -124,7 +124,7 @@ def test_cli_writes_the_profile_and_its_summary(tmp_path):
     assert (tmp_path / "out" / "axial_acceleration.png").stat().st_size > 0
     # from 1 D up, grains at their first position: the same acceleration,
     # bins from 1.05 D, the area over 1.05-2.95 D
-    assert acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "high"), "--z-min", "1",
+    assert acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "high"), "--z-min-D", "1",
                      "--place", "first"]) == 0
     table = read_table(tmp_path / "high" / "axial_acceleration.txt")
     np.testing.assert_allclose(table["a_over_g"], A / 9.8, rtol=1e-7)
@@ -132,7 +132,7 @@ def test_cli_writes_the_profile_and_its_summary(tmp_path):
     summary = read_table(tmp_path / "high" / "axial_acceleration_summary.txt")
     assert summary["area"][0] == pytest.approx(A * 1.9 * D, rel=1e-7)
     with pytest.raises(SystemExit):
-        acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "bad"), "--z-min", "3"])
+        acc.main([f"{directory}:0:0.5", "--out", str(tmp_path / "bad"), "--z-min-D", "3"])
 
 
 def test_a_steady_flow_gives_its_exit_speed_from_the_area(tmp_path):

@@ -49,14 +49,14 @@ def test_runs_side_by_side_and_what_they_lack_is_refused(tmp_path, capsys):
     rods = write_fields(tmp_path / "rods.npz", [0.3, 0.4], [2, 2])
     turning = write_fields(tmp_path / "turning.npz", [0.5, 0.5], [1, 1])
     out = tmp_path / "maps.png"
-    assert silo3d_maps.main([f"{rods}:f = 0", f"{turning}:f = 0.16 Hz", "--out", str(out),
-                             "--fields", "phi", "speed", "Ozz", "S", "--z-max", "0.03"]) == 0
+    assert silo3d_maps.main([f"{rods}:f = 0", f"{turning}:f = 0.16 Hz", "--figure", str(out),
+                             "--fields", "phi", "speed", "Ozz", "S", "--z-max-m", "0.03"]) == 0
     assert out.stat().st_size > 0
     assert "f = 0: mean of the windows 0-1 s, 1-2 s" in capsys.readouterr().out
     spheres = write_fields(tmp_path / "spheres.npz", [0.3], [1], orientation=False)
-    assert silo3d_maps.main([str(rods), str(spheres), "--out", str(out), "--fields", "phi", "Ozz"]) == 2
+    assert silo3d_maps.main([str(rods), str(spheres), "--figure", str(out), "--fields", "phi", "Ozz"]) == 2
     assert "has no map for Ozz" in capsys.readouterr().err
     other_grid = write_fields(tmp_path / "other.npz", [0.3], [1], cells=(4, 4))
-    assert silo3d_maps.main([str(rods), str(other_grid), "--out", str(out)]) == 2
+    assert silo3d_maps.main([str(rods), str(other_grid), "--figure", str(out)]) == 2
     assert "the runs' grids differ" in capsys.readouterr().err
-    assert silo3d_maps.main([str(tmp_path / "missing.npz"), "--out", str(out)]) == 2
+    assert silo3d_maps.main([str(tmp_path / "missing.npz"), "--figure", str(out)]) == 2

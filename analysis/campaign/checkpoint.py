@@ -38,7 +38,6 @@ from the checkpoint on); dump.contacts is not kept. `restore` unpacks
 KEPT into a new RUN_DIR, from which `resume` (and so run.sh) goes on.
 """
 
-import argparse
 import lzma
 import os
 import shutil
@@ -47,6 +46,7 @@ from pathlib import Path
 
 from analysis.common.lammps_io import iter_dump
 from analysis.silo3d_rotating.records import DUMP_CUT, read_dump_cut, read_run_info, write_dump_cut
+from analysis.common.cli import command_line
 
 CHECKPOINTS = "checkpoints.txt"
 ROW_RECORDS = ("discharge.txt", "reinject.txt")   # one row per step, step first
@@ -232,7 +232,9 @@ def restore(kept, run_dir):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = command_line("analysis.campaign.checkpoint", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.campaign.checkpoint resume "
+                          "runs/rods_fig2c/D0.06_f0.16_s32452843")
     actions = parser.add_subparsers(dest="action", required=True)
     for action in ("resume", "settle-resume", "clean"):
         actions.add_parser(action).add_argument("run_dir")

@@ -30,7 +30,6 @@ kept: an archive is what doc/data holds of a finished run
 CLI:  python3 -m analysis.campaign.silo2d_archive RUN_DIR ARCHIVE_DIR
 """
 
-import argparse
 import lzma
 import shutil
 import sys
@@ -40,6 +39,7 @@ import numpy as np
 
 from analysis.silo2d import clogs as silo2d
 from analysis.common.tables import read_table
+from analysis.common.cli import command_line
 
 # contacts.txt's columns (clog id1 id2 x z fn ft arch), positions to 7
 # significant digits (0.1 um in the paper's silo), forces to 6
@@ -85,8 +85,9 @@ def archive(run_dir, archive_dir, d=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo2d_archive", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.campaign.silo2d_archive", __doc__,
+                          "/usr/bin/python3 -m analysis.campaign.silo2d_archive runs/silo2d_scan/mu0.4 "
+                          "doc/data/silo2d_scan/mu0.4")
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("archive_dir", type=Path)
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)

@@ -6,7 +6,7 @@ The archive keeps
 - run.txt and discharge.txt as they are, and reinject.txt as
   reinject.txt.xz (small; analysis.silo3d_rotating.analyse takes Q from them);
 - from an analysis of the whole run directory (`--analysis OUT`, the
-  `--out` of analysis.silo3d_rotating.analyse that read this run, with the
+  `--out` of analysis.silo3d_rotating that read this run, with the
   campaign's windows): the run's orifice_timeseries.md (the orifice-region
   averages per frame) and fields.npz (the maps' fields, stored as float32).
 
@@ -22,7 +22,6 @@ unfinished run to another machine outside doc/data, in carry/<campaign>/).
 CLI:  python3 -m analysis.campaign.silo3d_archive RUN_DIR ARCHIVE_DIR [--analysis OUT]
 """
 
-import argparse
 import lzma
 import shutil
 import sys
@@ -31,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.silo3d_rotating.records import read_run_info
+from analysis.common.cli import command_line
 
 RECORDS = ("run.txt", "discharge.txt")       # kept as they are
 PACKED = ("reinject.txt",)                     # kept with xz
@@ -90,8 +90,10 @@ def archive(run_dir, archive_dir, analysis_dir=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_archive", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.campaign.silo3d_archive", __doc__,
+                          "/usr/bin/python3 -m analysis.campaign.silo3d_archive "
+                          "runs/rods_fig2c/D0.06_f0.16_s32452843 "
+                          "doc/data/silo3d_rods_fig2c/D0.06_f0.16_s32452843 --analysis runs/rods_fig2c/analysis")
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("archive_dir", type=Path)
     parser.add_argument("--analysis", type=Path, metavar="OUT",

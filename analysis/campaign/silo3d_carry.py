@@ -60,7 +60,6 @@ the run (analysis.silo3d_rotating RUN_DIR/D* --out RUN_DIR/analysis ...)
 before `keep` archives it.
 """
 
-import argparse
 import lzma
 import shutil
 import sys
@@ -69,6 +68,7 @@ from pathlib import Path
 from analysis.campaign import checkpoint
 from analysis.campaign import silo3d_archive
 from analysis.silo3d_rotating.records import read_run_info
+from analysis.common.cli import command_line
 
 CARRY = "carry"
 MARK = "archived_in"      # in RUN_DIR: this finished run came from that archive
@@ -261,8 +261,9 @@ def restore(store, run_dir, also=(), carry=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_carry", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.campaign.silo3d_carry", __doc__,
+                          "/usr/bin/python3 -m analysis.campaign.silo3d_carry keep runs/rods_fig2c "
+                          "doc/data/silo3d_rods_fig2c")
     actions = parser.add_subparsers(dest="action", required=True)
     carry_help = ("where the unfinished runs are carried [carry/<STORE's name> at the top of the git "
                   "work tree that holds STORE]")

@@ -20,12 +20,12 @@ A DIR is a run directory (D<D>_f<f>_s<seed>) or a campaign directory
 holding them (run.sh's RUN_DIR); the settling of packings is not counted.
 """
 
-import argparse
 import re
 import sys
 from pathlib import Path
 
 from analysis.silo3d_rotating.records import read_run_info
+from analysis.common.cli import command_line
 
 LOOP = re.compile(r"^Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps")
 
@@ -77,8 +77,8 @@ def run_dirs(paths):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.campaign.silo3d_status", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.campaign.silo3d_status", __doc__,
+                          "/usr/bin/python3 -m analysis.campaign.silo3d_status runs/rods_fig2c")
     parser.add_argument("dirs", nargs="+", help="run or campaign directories")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     runs = run_dirs(args.dirs)

@@ -22,7 +22,6 @@ more than half their height), with its bootstrap spread.
 CLI:  python3 -m analysis.pile2d discharges.txt --out DIR [--bootstrap 2000]
 """
 
-import argparse
 import math
 import sys
 from pathlib import Path
@@ -31,6 +30,7 @@ import numpy as np
 from scipy import stats
 
 from analysis.common.tables import read_rows
+from analysis.common.cli import command_line
 
 # w_c of the paper (section III), in d: model -> (value, uncertainty)
 # Both "overlap" (l_c = chord of the overlap) and "depth" (l_c = overlap
@@ -391,10 +391,12 @@ def make_plots(summary, out, fig_length=None):
 
 
 def parse(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.pile2d", __doc__,
+                          "/usr/bin/python3 -m analysis.pile2d runs/pile2d/discharges.txt --out "
+                          "runs/pile2d/analysis")
     parser.add_argument("results", type=Path, help="the discharge record file (in.discharge's `results`)")
-    parser.add_argument("--out", type=Path, default=None, help="output directory (default: next to RESULTS, pile2d_analysis/)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="the directory the tables and figures go to (default: pile2d_analysis/ next to RESULTS)")
     parser.add_argument("--bootstrap", type=int, default=2000, help="bootstrap replicates")
     parser.add_argument("--seed", type=int, default=1, help="seed of the bootstrap's generator")
     parser.add_argument("--L", dest="fig_length", type=float, default=None,

@@ -19,11 +19,10 @@ Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
 discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.
 
 CLI:
-    python3 -m analysis.pile2d.driver --out runs/pile2d --models none overlap fixed \
+    python3 -m analysis.pile2d.driver --campaign runs/pile2d --models none overlap fixed \
         --L 20 30 --seeds 10 --widths 1 2 3 4 5 6 -j 2
 """
 
-import argparse
 import math
 import os
 import subprocess
@@ -34,6 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from analysis.common.tables import read_rows
+from analysis.common.cli import command_line
 
 ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
@@ -135,7 +135,7 @@ class Runner:
     def __init__(self, args, argv=()):
         self.args = args
         self.argv = list(argv)
-        self.out = Path(args.out).resolve()
+        self.out = Path(args.campaign).resolve()
         self.piles_file = self.out / "piles.txt"
         self.results_file = self.out / "discharges.txt"
         self.lock = threading.Lock()
@@ -199,7 +199,7 @@ class Runner:
                 restart.rename(restart.with_name(restart.name + ".differs"))
             raise RuntimeError(
                 f"{name} rebuilt is not the recorded pile ({problem}); its recorded "
-                f"discharges are of the recorded one: rerun the pile in a new --out "
+                f"discharges are of the recorded one: rerun the pile in a new --campaign "
                 f"(the rebuilt one is {restart.name}.differs)")
         self.progress(f"rebuilt {name} in {seconds:.1f} s, the recorded pile "
                       f"(n_pile {rebuilt[-1]['n_pile']}, h0 {rebuilt[-1]['h0']})")
@@ -274,9 +274,11 @@ def last_result(path, model, length, w, seed):
 
 
 def parse(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d.driver", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", required=True, help="directory for records, piles and logs")
+    parser = command_line("analysis.pile2d.driver", __doc__,
+                          "/usr/bin/python3 -m analysis.pile2d.driver --campaign runs/piles --models none --L 20 "
+                          "50 --seeds 10")
+    parser.add_argument("--campaign", required=True, metavar="DIR",
+                        help="the campaign's directory: records, piles and logs; a later call goes on from it")
     parser.add_argument("--models", nargs="+", default=list(MODELS), choices=MODELS)
     parser.add_argument("--L", nargs="+", type=float, required=True, help="substrate lengths (d)")
     parser.add_argument("--widths", nargs="*", type=float, default=[],

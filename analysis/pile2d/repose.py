@@ -36,7 +36,6 @@ CLI:  python3 -m analysis.pile2d.repose RUN_DIR [RUN_DIR ...] [--peak-margin 10]
       python3 -m analysis.pile2d.repose --base-motion dump.build 0.0028065
 """
 
-import argparse
 import math
 import os
 import subprocess
@@ -49,6 +48,7 @@ import numpy as np
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
 from analysis.pile2d.discharges import mean_std_ci
+from analysis.common.cli import command_line
 
 ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
@@ -257,8 +257,9 @@ def format_table(summary):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.pile2d.repose", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.pile2d.repose", __doc__,
+                          "/usr/bin/python3 -m analysis.pile2d.repose runs/piles --run-on 10 --write "
+                          "runs/piles/shapes.txt")
     parser.add_argument("runs", nargs="*", type=Path, help="analysis.pile2d.driver output directories")
     parser.add_argument("--base-motion", dest="base_motion", nargs=2, metavar=("DUMP", "DT"),
                         help="the bottom layer's motion in the frames of in.build's dump.build")

@@ -23,7 +23,6 @@ doc/data (doc/pile2d.md, "Results against the paper").
     /usr/bin/python3 -m analysis.pile2d.results    # prints the table
 """
 
-import argparse
 import functools
 import math
 import sys
@@ -34,6 +33,7 @@ import numpy as np
 from analysis.common.tables import read_rows
 from analysis.pile2d.discharges import PAPER_CRITICAL_WIDTH, mean_std_ci, summarize
 from analysis.results_tables import DATA_DIR, Row, markdown_table
+from analysis.common.cli import command_line
 
 # the page's sections (GitHub anchors of doc/pile2d.md's headings)
 SECTION_NONE = "w_c-without-rolling-resistance"
@@ -226,11 +226,11 @@ def results_rows(data_dir=DATA_DIR):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.pile2d.results",
-                                     description=__doc__.split("\n\n")[0])
-    parser.add_argument("--data", type=Path, default=DATA_DIR, help="the records' folder (default doc/data)")
+    parser = command_line("analysis.pile2d.results", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.pile2d.results --data-dir doc/data")
+    parser.add_argument("--data-dir", type=Path, default=DATA_DIR, help="the records' folder (default doc/data)")
     args = parser.parse_args(argv)
-    sys.stdout.write(markdown_table(results_rows(args.data)))
+    sys.stdout.write(markdown_table(results_rows(args.data_dir)))
     return 0
 
 

@@ -10,7 +10,6 @@ height for the wall / intermediate / centre regions, the bulk reference
 CLI:  python3 -m analysis.silo2d RECORD_DIR [--d D --mu MU --mass M ...] --out DIR
 """
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -18,6 +17,7 @@ import numpy as np
 from scipy import stats
 
 from analysis.common.tables import read_table
+from analysis.common.cli import command_line
 
 # Paper's Table 1 (units of m g): mu -> ((fn_b, +-), (fn_a, +-)).
 PAPER_TABLE1 = {
@@ -565,10 +565,12 @@ def plot_all(out, eta, R, phi, arches, contacts, bulk, fn_b, mu, d, phi_bin,
 # ---------------------------------------------------------------- CLI
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo2d", __doc__,
+                          "/usr/bin/python3 -m analysis.silo2d runs/silo2d_quick/mu0.4 --reading members --bulk "
+                          "8 14 --out runs/silo2d_quick/mu0.4/analysis")
     parser.add_argument("record_dir", type=Path)
-    parser.add_argument("--out", type=Path, default=None, help="output directory (default RECORD_DIR/analysis)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="the directory the tables and figures go to (default RECORD_DIR/analysis)")
     parser.add_argument("--silo", type=Path, default=None, help="geometry file (default RECORD_DIR/silo.txt if present)")
     parser.add_argument("--d", type=float, help="grain diameter (m); default 1/32")
     parser.add_argument("--mu", type=float, help="friction coefficient")

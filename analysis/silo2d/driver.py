@@ -23,7 +23,7 @@ arches, CPU seconds and wall seconds of the segment), state<k>.restart
 (the last two are kept), logs/segment<k>.txt (LIGGGHTS' screen output).
 
 CLI:
-    python3 -m analysis.silo2d.driver --out runs/silo2d --mu 0.2 0.4 0.8 \\
+    python3 -m analysis.silo2d.driver --campaign runs/silo2d --mu 0.2 0.4 0.8 \\
         --arches 200 --dt 2e-5 --segment-time 20 -j 2
 Environment: SILOKIT_LIGGGHTS (the binary, default build/bin/liggghts) and
 SILOKIT_INPUTS (the inputs/ directory, default the repository's): LIGGGHTS
@@ -33,7 +33,6 @@ Calling it again with the same arguments continues; a larger --arches
 extends a finished run.
 """
 
-import argparse
 import os
 import subprocess
 import sys
@@ -44,6 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.common.tables import read_table
+from analysis.common.cli import command_line
 
 ROOT = Path(__file__).resolve().parents[2]
 # LIGGGHTS reads its input file line by line as it runs (and `jump SELF`
@@ -80,7 +80,7 @@ def check_parameters(directory, variables):
         return
     if path.read_text() != text:
         raise SystemExit(f"silo2d_driver: {directory} was started with other parameters:\n"
-                         f"{path.read_text()}now:\n{text}(use another --out, or the same options)")
+                         f"{path.read_text()}now:\n{text}(use another --campaign, or the same options)")
 
 
 def completed_segments(directory):
@@ -233,8 +233,11 @@ class Campaign:
 
 
 def parse(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", required=True, type=Path, help="campaign directory")
+    parser = command_line("analysis.silo2d.driver", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.silo2d.driver --campaign runs/silo2d_quick --mu 0.4 "
+                          "--arches 3 --quick")
+    parser.add_argument("--campaign", required=True, type=Path, metavar="DIR",
+                        help="the campaign's directory: records, restarts and logs; a later call goes on from it")
     parser.add_argument("--mu", type=float, nargs="+", required=True, help="friction coefficients")
     parser.add_argument("--arches", type=int, required=True, help="arches wanted per mu")
     parser.add_argument("--dt", type=float, default=2e-5, help="time step (s); default t_c/12")
@@ -267,7 +270,7 @@ def main(argv=None):
     args = parse(argv)
     if not BINARY.exists():
         raise SystemExit(f"silo2d_driver: no LIGGGHTS binary at {BINARY} (bash tools/build.sh)")
-    campaign = Campaign(args.out, args.mu, args.arches, args.dt, args.seed, args.quick,
+    campaign = Campaign(args.campaign, args.mu, args.arches, args.dt, args.seed, args.quick,
                         args.segment_time, args.max_segments, args.mpi, dict(args.var))
     results = campaign.run_all(args.jobs)
     for mu, (arches, failed) in results.items():

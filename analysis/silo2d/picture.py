@@ -9,10 +9,9 @@ doc/silo2d_records.md) and the grain positions at that clog: the silo2d
 deck, run with `-var stop_at_first 1`, writes them to clog_state.dump when
 it stops at its first clog.
 
-CLI:  python3 -m analysis.silo2d.picture RECORD_DIR [--dump FILE] [--clog N] [--out FILE]
+CLI:  python3 -m analysis.silo2d.picture RECORD_DIR [--dump FILE] [--clog N] [--figure PNG]
 """
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -20,6 +19,7 @@ import numpy as np
 
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
+from analysis.common.cli import command_line
 
 FREE_TYPE = 1        # the deck's type of the free grains (2: fixed grains)
 
@@ -92,13 +92,15 @@ def draw(dump_path, arches, contacts, clog, out, d, half_width_d=8.0, height_d=1
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d.picture", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo2d.picture", __doc__,
+                          "/usr/bin/python3 -m analysis.silo2d.picture runs/silo2d_one --figure "
+                          "runs/silo2d_one/arch.png")
     parser.add_argument("record_dir", type=Path)
     parser.add_argument("--dump", type=Path, default=None, help="grain positions (default RECORD_DIR/clog_state.dump)")
     parser.add_argument("--clog", type=int, default=None, help="clog index (default: the last clog with an arch)")
     parser.add_argument("--d", type=float, default=1.0 / 32, help="grain diameter (m)")
-    parser.add_argument("--out", type=Path, default=None, help="PNG (default RECORD_DIR/arch.png)")
+    parser.add_argument("--figure", type=Path, default=None, metavar="PNG",
+                        help="the figure (default RECORD_DIR/arch.png)")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     clogs = read_table(args.record_dir / "clogs.txt")
     arches = read_table(args.record_dir / "arches.txt")
@@ -107,7 +109,7 @@ def main(argv=None):
     if not found.size:
         raise SystemExit("error: no clog with an arch in clogs.txt")
     clog = args.clog if args.clog is not None else int(found[-1])
-    out = args.out or args.record_dir / "arch.png"
+    out = args.figure or args.record_dir / "arch.png"
     feet_path = args.record_dir / "feet.txt"
     feet = read_table(feet_path) if feet_path.exists() else None
     draw(args.dump or args.record_dir / "clog_state.dump", arches, contacts, clog, out, args.d, feet=feet)

@@ -35,6 +35,7 @@ import numpy as np
 from analysis.silo2d import clogs as silo2d
 from analysis.silo2d import scan as silo2d_scan
 from analysis.results_tables import DATA_DIR, Row
+from analysis.common.cli import command_line
 
 MUS = (0.2, 0.4, 0.8)
 PLAIN = "members"           # the plain walk
@@ -245,13 +246,11 @@ def results_rows(data_dir=DATA_DIR):
 
 
 def main(argv=None):
-    import argparse
     from analysis.results_tables import markdown_table
-    parser = argparse.ArgumentParser(
-        prog="/usr/bin/python3 -m analysis.silo2d.results",
-        description="Print the rows of doc/silo2d.md's results table, computed from doc/data "
-                    "(about half a minute).",
-        epilog="example: /usr/bin/python3 -m analysis.silo2d.results")
+    parser = command_line("analysis.silo2d.results",
+                          "Print the rows of doc/silo2d.md's results table, computed from doc/data "
+                          "(about half a minute).",
+                          "/usr/bin/python3 -m analysis.silo2d.results")
     parser.parse_args(argv)
     print(markdown_table(results_rows()), end="")
     return 0

@@ -22,7 +22,6 @@ bulk window's force depends on its depth.
 CLI:  python3 -m analysis.silo2d.scan RUN_DIR [RUN_DIR ...] --out DIR [--reading outlet|members|feet]
 """
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -30,6 +29,7 @@ import numpy as np
 
 from analysis.silo2d import clogs as silo2d
 from analysis.common.tables import read_table
+from analysis.common.cli import command_line
 
 PHI_BIN = 10.0
 RESAMPLES = 2000
@@ -338,10 +338,11 @@ def plot_mobilized_friction(runs, out, reading):
 # ---------------------------------------------------------------- CLI
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo2d.scan", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo2d.scan", __doc__,
+                          "/usr/bin/python3 -m analysis.silo2d.scan doc/data/silo2d_scan/mu0.2 "
+                          "doc/data/silo2d_scan/mu0.4 doc/data/silo2d_scan/mu0.8 --out runs/silo2d_scan/analysis")
     parser.add_argument("run_dirs", type=Path, nargs="+", help="record directories, one per mu")
-    parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the directory the tables and figures go to")
     parser.add_argument("--reading", choices=silo2d.READINGS, default=None,
                         help="the reading of the figures other than Fig. 2 (which shows all); default "
                              f"{silo2d.DEFAULT_READING}, members for records without feet.txt")

@@ -40,6 +40,7 @@ from analysis.common.lammps_io import dump_steps, iter_dump
 from analysis.silo3d_rotating.flow import BLOCKS, progress
 from analysis.silo3d_rotating.records import load_run, once_each, time_since_opening
 from analysis.silo3d_rotating.analyse import _figure, _save, write_table
+from analysis.common.cli import command_line
 
 AXIS_DIAMETER = 0.03      # m: the paper's cylinder (Fig. 10's caption; D/2 at D = 60 mm)
 JUMP = 0.05               # m: a displacement this far from its velocities' is not a free motion
@@ -211,15 +212,18 @@ def parse_run(text):
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.acceleration", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo3d_rotating.acceleration", __doc__,
+                          "/usr/bin/python3 -m analysis.silo3d_rotating.acceleration "
+                          "runs/rods_fig2c/D0.06_f0.16_s32452843:4:8 --out runs/rods_fig2c/acceleration "
+                          "--z-max-D 3")
     parser.add_argument("runs", nargs="+", type=parse_run, help="RUN_DIR:T_FROM:T_TO")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the directory the tables and figures go to")
     parser.add_argument("--diameter", type=float, default=AXIS_DIAMETER,
                         help="diameter of the cylinder about the axis (m, default %(default)s)")
-    parser.add_argument("--z-min", type=float, default=0.0,
+    parser.add_argument("--z-min-D", dest="z_min", type=float, default=0.0,
                         help="bottom of the profile in D (default 0, the plate; the area starts there)")
-    parser.add_argument("--z-max", type=float, default=Z_MAX_IN_D, help="top of the profile in D (default 3)")
+    parser.add_argument("--z-max-D", dest="z_max", type=float, default=Z_MAX_IN_D,
+                        help="top of the profile in D (default 3)")
     parser.add_argument("--place", choices=("midpoint", "first"), default="midpoint",
                         help="a grain's position: the midpoint of its two (default) or the first")
     parser.add_argument("--bins-per-D", type=int, default=BINS_PER_D, help="bins per D (default 10)")
@@ -229,9 +233,9 @@ def parse_args(argv):
                              "by the deck, or stopped by an impact) is left out (m, default %(default)s)")
     args = parser.parse_args(argv)
     if not (args.diameter > 0 and args.z_max > 0 and args.bins_per_D > 0 and args.blocks > 0 and args.jump > 0):
-        parser.error("--diameter, --z-max, --bins-per-D, --blocks and --jump must be positive")
+        parser.error("--diameter, --z-max-D, --bins-per-D, --blocks and --jump must be positive")
     if not 0 <= args.z_min < args.z_max:
-        parser.error(f"--z-min must be at least 0 and below --z-max, not {args.z_min:g}")
+        parser.error(f"--z-min-D must be at least 0 and below --z-max-D, not {args.z_min:g}")
     return args
 
 

@@ -16,7 +16,6 @@ CLI:  python3 -m analysis.silo3d_rotating RUN_DIR [RUN_DIR ...] --out DIR [optio
 # (flow rate, fits) and analysis.silo3d_rotating.fields (coarse-grained fields,
 # orifice averages).
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -25,10 +24,12 @@ import numpy as np
 from analysis.common import coarse_grain as cg
 from analysis.common.lammps_io import iter_dump
 from analysis.silo3d_rotating.fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
-from analysis.silo3d_rotating.flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT, analyse_flow,
-                                  beverloo, drop_and_recovery, exponential, flow_changes, flow_fits, flow_groups, last_exit,
-                                  progress, run_labels, smoothed_rate, window_rates)
+from analysis.silo3d_rotating.flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT,
+                                           analyse_flow, beverloo, drop_and_recovery, exponential, flow_changes,
+                                           flow_fits, flow_groups, last_exit, progress, run_labels, smoothed_rate,
+                                           window_rates)
 from analysis.silo3d_rotating.records import key_value, load_run
+from analysis.common.cli import command_line
 
 
 # ---------------------------------------------------------------- tables
@@ -318,10 +319,11 @@ def plot_orifice_vs_f(path, groups, names, labels):
 # ---------------------------------------------------------------- CLI
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo3d_rotating", __doc__,
+                          "/usr/bin/python3 -m analysis.silo3d_rotating runs/deck --out runs/deck/analysis "
+                          "--transient 0.2 --no-fields")
     parser.add_argument("run_dirs", nargs="+", type=Path, help="run directories (run.txt, discharge.txt, ...)")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the directory the tables and figures go to")
     parser.add_argument("--include-unfinished", action="store_true",
                         help="also analyse runs whose run.txt has no 'finished' line (left out by default)")
     flow = parser.add_argument_group("flow rate")
@@ -357,7 +359,8 @@ def parse_args(argv):
     fields.add_argument("--map-width", type=float, default=1.0, help="map window width (s)")
     fields.add_argument("--map-frames", type=int, default=5, help="frames coarse-grained per map window")
     fields.add_argument("--orifice-every", type=int, default=1, help="use every n-th frame for orifice averages")
-    fields.add_argument("--zmax", type=float, help="top of the map grid (m); default fill height + r_c")
+    fields.add_argument("--z-max-m", dest="zmax", type=float,
+                        help="top of the map grid (m); default fill height + r_c")
     args = parser.parse_args(argv)
     if not args.window_width > 0:
         parser.error(f"--window-width must be > 0 s, not {args.window_width:g}")

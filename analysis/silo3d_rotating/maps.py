@@ -4,7 +4,7 @@ windows (the `fields.npz` that analysis.silo3d_rotating.analyse writes per run,
 each window weighted by its frames), one column per run, one row per
 field, one colour scale per row, so that the runs compare by colour.
 
-CLI:  python3 -m analysis.silo3d_rotating.maps FIELDS.npz[:LABEL] ... --out PNG [--fields phi speed Ozz ...] [--z-max Z]
+CLI:  python3 -m analysis.silo3d_rotating.maps FIELDS.npz[:LABEL] ... --figure PNG [--fields phi speed Ozz ...] [--z-max-m Z]
 
 Fields: phi (packing fraction), speed ((v_r² + v_z²)^½, with the
 streamlines of (v_r, v_z)), vtheta, pk (kinetic pressure), pc (contact
@@ -13,13 +13,13 @@ field a run's maps lack (orientation for spheres, contact pressure
 without dump.contacts) is refused with a message.
 """
 
-import argparse
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from analysis.silo3d_rotating.analyse import draw_streamlines, in_plane_speed
+from analysis.common.cli import command_line
 
 # name: (title, the stored map it is made from, how)
 FIELDS = {
@@ -88,16 +88,19 @@ def plot(path, runs, labels, fields, z_max=None):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.maps", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo3d_rotating.maps", __doc__,
+                          "/usr/bin/python3 -m analysis.silo3d_rotating.maps "
+                          "runs/rods_fig2c/analysis/runs/D0.06_f0_s32452843/fields.npz:'f = 0' --figure maps.png "
+                          "--z-max-m 0.1")
     parser.add_argument("runs", nargs="+", help="FIELDS.npz[:LABEL], a run's fields.npz and its column's label")
-    parser.add_argument("--out", type=Path, required=True, help="the figure (PNG)")
+    parser.add_argument("--figure", type=Path, required=True, metavar="PNG", help="the figure")
     parser.add_argument("--fields", nargs="+", default=["phi", "speed", "Ozz"], choices=sorted(FIELDS),
                         help="rows of the figure (default: phi speed Ozz)")
-    parser.add_argument("--z-max", type=float, help="show z < Z only (m); the colour scales follow")
+    parser.add_argument("--z-max-m", dest="z_max", type=float, metavar="Z",
+                        help="show z < Z only (m); the colour scales follow")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     if args.z_max is not None and not args.z_max > 0:
-        parser.error(f"--z-max must be > 0 m, not {args.z_max:g}")
+        parser.error(f"--z-max-m must be > 0, not {args.z_max:g}")
     runs, labels = [], []
     for spec in args.runs:
         path, _, label = spec.partition(":")
@@ -120,8 +123,8 @@ def main(argv=None):
         print(f"silo3d_maps: ERROR: the runs' grids differ ({sorted(shapes)}): maps of one silo and spacing only",
               file=sys.stderr)
         return 2
-    plot(args.out, runs, labels, args.fields, args.z_max)
-    print(f"silo3d_maps: {args.out}")
+    plot(args.figure, runs, labels, args.fields, args.z_max)
+    print(f"silo3d_rotating.maps: {args.figure}")
     return 0
 
 

@@ -25,7 +25,6 @@ than the window), even the block errors understate, and the analysis says
 so. Needs f > 0 (at rest there is no bottom speed to compare with).
 """
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -37,6 +36,7 @@ from analysis.silo3d_rotating.fields import block_standard_error
 from analysis.silo3d_rotating.flow import progress
 from analysis.silo3d_rotating.records import load_run, once_each
 from analysis.silo3d_rotating.analyse import write_table
+from analysis.common.cli import command_line
 
 HEIGHT = 0.02           # m: over the orifice, a rod's length above the plate
 RING = (0.04, 0.06)     # m: the plate around a 60 mm orifice, inside the cut dumps' r < 6 cm
@@ -91,8 +91,9 @@ def window_means(rows, t_from, t_to, blocks=BLOCKS):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python3 -m analysis.silo3d_rotating.orifice_plug", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_line("analysis.silo3d_rotating.orifice_plug", __doc__,
+                          "/usr/bin/python3 -m analysis.silo3d_rotating.orifice_plug "
+                          "runs/rods_fig2c/D0.06_f0.16_s32452843 --window 4 8 --out runs/rods_fig2c/orifice_plug")
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("--window", nargs=2, type=float, action="append", required=True,
                         metavar=("T_FROM", "T_TO"), help="s since the opening; may be repeated")
@@ -101,7 +102,7 @@ def main(argv=None):
                         help=f"m, the plate's ring [{RING[0]} {RING[1]}]")
     parser.add_argument("--plate-height", type=float, default=PLATE_HEIGHT, help=f"m [{PLATE_HEIGHT}]")
     parser.add_argument("--blocks", type=int, default=BLOCKS, help=f"blocks per window for the errors [{BLOCKS}]")
-    parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the directory the tables and figures go to")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     for t_from, t_to in args.window:
         if not t_to > t_from:

@@ -21,7 +21,6 @@ and doc/data/silo3d_rods_orifices/same_window_ratios.md (orifice).
 results table (analysis.results_tables).
 """
 
-import argparse
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,6 +30,7 @@ import numpy as np
 from analysis.results_tables import DATA_DIR, Row
 from analysis.silo3d_rotating.flow import BLOCKS, fit_exponential, last_exit, stationary_flow_rate
 from analysis.silo3d_rotating.records import load_run
+from analysis.common.cli import command_line
 
 # the rods' three packings at D = 60 mm (the kept packings' seeds)
 PACKINGS = {"1st": 32452843, "2nd": 15485863, "3rd": 49979687}
@@ -516,10 +516,8 @@ def plot_same_window(data_dir, path):
 # ---------------------------------------------------------------- command line
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="/usr/bin/python3 -m analysis.silo3d_rotating.results",
-                                     description=__doc__.split("\n\n")[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter,
-                                     epilog="example: /usr/bin/python3 -m analysis.silo3d_rotating.results --check")
+    parser = command_line("analysis.silo3d_rotating.results", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.silo3d_rotating.results --check")
     action = parser.add_mutually_exclusive_group(required=True)
     action.add_argument("--write", action="store_true", help="write the same-window tables into doc/data")
     action.add_argument("--check", action="store_true", help="exit 1 naming the tables that differ from the records")

@@ -17,6 +17,6 @@ JOBS="${JOBS:-1}"
 PYTHON="${PYTHON:-/usr/bin/python3}"
 
 cd "$ROOT"
-"$PYTHON" -m analysis.pile2d.driver --out "$RUN_DIR" --L $L --seeds "$SEEDS" \
+"$PYTHON" -m analysis.pile2d.driver --campaign "$RUN_DIR" --L $L --seeds "$SEEDS" \
   --widths 1.0 1.4 1.8 2.2 2.6 3.0 3.4 3.8 4.2 5.0 -j "$JOBS"
 "$PYTHON" -m analysis.pile2d "$RUN_DIR/discharges.txt" --out "$RUN_DIR/analysis" --bootstrap 500

@@ -9,12 +9,16 @@ the same core functions (core/contact_law.h, core/rolling_law_jiang.h) in
 the same order, with one contact to sum: measured, the trajectories agree
 to the last bit at every step (positions, velocities, angular velocities),
 so the test asks for that (rtol = atol = 0). A difference here means that a
-host computes the contact differently; doc/lammps_host.md, section 6."""
+host computes the contact differently; doc/lammps_host.md, section 6.
+
+The box is split between two ranks at x = 0.005, between the grains: under
+mpirun -np 2 each rank owns one grain and sees the other as a ghost, and
+LAMMPS gives the run of one rank, to the last bit, with newton off and on."""
 
 import pytest
 
 from analysis.testing import assert_dumps_close, liggghts_binary, run_deck
-from lammps_host import needs_lammps, run_lammps
+from lammps_host import has_mpirun, needs_lammps, run_lammps
 
 pytestmark = needs_lammps
 
@@ -64,7 +68,7 @@ atom_style sphere
 boundary f f f
 newton off
 {head}
-region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box
+region box block -0.05 0.06 -0.05 0.05 -0.05 0.05 units box
 create_box 1 box
 neighbor 0.002 bin
 neigh_modify delay 0
@@ -94,3 +98,15 @@ def test_two_grain_collision_is_the_same_in_both_hosts(tmp_path, case):
     assert abs(after["vx"][1] - before["vx"][1]) > 0.1
     assert abs(after["omegaz"][0] - before["omegaz"][0]) > 1.0
     assert_dumps_close(ours, liggghts.frames("dump.traj"), rtol=0, atol=0)
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="mpirun is not installed")
+@pytest.mark.parametrize("newton", ["off", "on"])
+def test_two_ranks_give_the_run_of_one(tmp_path, newton):
+    deck = collision("lammps", "hooke_stiffness_fixed_lc")
+    serial = run_lammps(deck, tmp_path / "np1")
+    parallel = run_lammps(deck.replace("newton off", f"newton {newton}\nprocessors 2 1 1"),
+                          tmp_path / "np2", nprocs=2)
+    # one grain on each rank, the other its ghost
+    assert "Nlocal:        1.00000 ave           1 max           1 min" in parallel.output
+    assert_dumps_close(parallel.frames("dump.traj"), serial.frames("dump.traj"), rtol=0, atol=0)

@@ -43,6 +43,7 @@ import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.tables import read_table  # noqa: E402
+from analysis.common.stats import mean_t_ci  # noqa: E402
 from analysis.silo2d import clogs as silo2d  # noqa: E402
 from analysis.silo2d.clogs import bulk_mask  # noqa: E402
 from analysis.silo2d.scan import PHI_BIN, phi_peak  # noqa: E402
@@ -78,7 +79,7 @@ def metrics(run_dir, simulated_time, rng):
     rate_hi = stats.chi2.ppf(0.975, 2 * count + 2) / 2 / simulated_time
     return {
         "arches": count, "clogs": clogs["clog"].size,
-        "eta": silo2d.mean_t_ci(eta),
+        "eta": mean_t_ci(eta),
         "phi_peak": phi_peak(phi),
         "phi_peak_ci": silo2d.bootstrap_over_clogs(
             groups, lambda g: phi_peak(np.concatenate([x["phi"] for x in g])), rng),

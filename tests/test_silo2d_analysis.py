@@ -13,6 +13,7 @@ from scipy import optimize
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from analysis.common.stats import mean_t_ci  # noqa: E402
 from analysis.silo2d import clogs as silo2d  # noqa: E402
 
 
@@ -314,9 +315,9 @@ def test_cli_default_reading_is_outlet_and_members_without_feet(tmp_path):
 
 def test_mean_t_ci_by_hand():
     # 1, 2, 3: mean 2, s = 1, t(0.975, 2) = 4.302653 -> half 4.302653 / sqrt(3)
-    mean, half = silo2d.mean_t_ci([1.0, 2.0, 3.0])
+    mean, half = mean_t_ci([1.0, 2.0, 3.0])
     assert mean == 2.0 and half == pytest.approx(4.302653 / math.sqrt(3), rel=1e-6)
-    assert math.isnan(silo2d.mean_t_ci([5.0])[1])
+    assert math.isnan(mean_t_ci([5.0])[1])
 
 
 def test_wilson_interval_by_hand():

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
+from analysis.common.stats import t_quantile
 from analysis.common.tables import read_rows
 from analysis.common.cli import command_line
 
@@ -82,7 +83,7 @@ def mean_std_ci(values, level=0.95):
         return mean, math.nan, (math.nan, math.nan), (math.nan, math.nan)
     std = float(values.std(ddof=1))
     alpha = 1.0 - level
-    half = stats.t.ppf(1 - alpha / 2, n - 1) * std / math.sqrt(n)
+    half = t_quantile(level, n - 1) * std / math.sqrt(n)
     std_lo = std * math.sqrt((n - 1) / stats.chi2.ppf(1 - alpha / 2, n - 1))
     std_hi = std * math.sqrt((n - 1) / stats.chi2.ppf(alpha / 2, n - 1))
     return mean, std, (mean - half, mean + half), (std_lo, std_hi)

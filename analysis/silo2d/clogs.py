@@ -160,16 +160,6 @@ def mobilized_friction(fn, ft, mu):
     return ft[keep] / (mu * fn[keep])
 
 
-def mean_t_ci(values, level=0.95):
-    """Mean and the half width of its Student-t interval (nan for n < 2)."""
-    values = np.asarray(values, dtype=float)
-    n = values.size
-    if n < 2:
-        return (float(values.mean()) if n else np.nan), np.nan
-    half = stats.t.ppf(0.5 + level / 2, n - 1) * values.std(ddof=1) / np.sqrt(n)
-    return float(values.mean()), float(half)
-
-
 def wilson_interval(successes, n, level=0.95):
     """A proportion and its Wilson score interval: (p, low, high)."""
     if n == 0:

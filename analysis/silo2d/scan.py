@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.common.stats import mean_t_ci
 from analysis.silo2d import clogs as silo2d
 from analysis.common.tables import read_table
 from analysis.common.cli import command_line
@@ -146,7 +147,7 @@ def summarize(run, reading, rng, arch_force="all"):
         "mu": geometry["mu"], "R": geometry["R"],
         "reading": reading if arch_force == "all" else f"{reading}, walk forces", "arches": int(eta.size),
         "clogs": int(np.size(tables["clogs"]["clog"])),
-        "eta_mean": silo2d.mean_t_ci(eta), "eta_mode": mode,
+        "eta_mean": mean_t_ci(eta), "eta_mode": mode,
         "eta_mode_ci": silo2d.bootstrap_over_clogs(groups, mode_of, rng, RESAMPLES),
         "tail_rate": silo2d.exponential_tail_rate(eta, mode + 1),
         "tail_rate_ci": silo2d.bootstrap_over_clogs(groups, tail_of, rng, RESAMPLES),
@@ -165,7 +166,7 @@ def summarize(run, reading, rng, arch_force="all"):
         "ratio": silo2d.force_ratio(groups),
         "ratio_ci": silo2d.bootstrap_over_clogs(groups, silo2d.force_ratio, rng, RESAMPLES),
         "n_bulk": int(bulk_fn.size),
-        "surface": silo2d.mean_t_ci(run["surfaces"]),
+        "surface": mean_t_ci(run["surfaces"]),
     }
 
 

@@ -14,7 +14,9 @@ analysis.silo3d_rotating.records.load_run.
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
+
+from analysis.common.stats import t_quantile
 
 # Stationary-window defaults (s, or a fraction of the grains), see
 # doc/silo3d_rotating_records.md.
@@ -265,7 +267,7 @@ def seed_mean_ci(means, standard_errors, dofs, level=CONFIDENCE):
         dof = n - 1
     else:
         se, dof = float(standard_errors[0]), int(dofs[0])
-    half = stats.t.ppf(0.5 + 0.5 * level, dof) * se if dof > 0 else np.nan
+    half = t_quantile(level, dof) * se if dof > 0 else np.nan
     return float(means.mean()), float(se), float(half)
 
 

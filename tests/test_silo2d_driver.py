@@ -122,7 +122,8 @@ def test_a_campaign_refuses_other_parameters(liggghts_binary, tmp_path):
     (["--arches", "0"], "--arches must be >= 1"),
     (["--segment-time", "0"], "--segment-time must be > 0"),
     (["--dt", "-1"], "--dt must be > 0"),
-    (["--var", "segment", "3"], "--var segment: set by the driver itself"),
+    (["--var", "segment=3"], "--var segment: set by the driver itself"),
+    (["--var", "segment"], "--var segment: expected NAME=VALUE"),
 ])
 def test_bad_options_are_refused(tmp_path, option, message):
     with pytest.raises(SystemExit):

@@ -401,7 +401,7 @@ def parse(argv):
     parser.add_argument("--bootstrap", type=int, default=2000, help="bootstrap replicates")
     parser.add_argument("--seed", type=int, default=1, help="seed of the bootstrap's generator")
     parser.add_argument("--L", dest="fig_length", type=float, default=None,
-                        help="substrate length for Figs. 4 and 6 (default: each model's largest)")
+                        help="substrate length (d) for Figs. 4 and 6 (default: each model's largest)")
     parser.add_argument("--settled-only", dest="settled_only", action="store_true",
                         help="leave out discharges that did not reach equilibrium (status 0)")
     return parser.parse_args(argv)

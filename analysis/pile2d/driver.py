@@ -288,9 +288,12 @@ def parse(argv):
                         help="seeds are the primes from this one on")
     parser.add_argument("--seed-list", dest="seed_list", nargs="+", type=int,
                         help="explicit seeds (primes > 10000) instead of --seeds")
-    parser.add_argument("--dt-fraction", dest="dt_fraction", type=float, default=25)
-    parser.add_argument("--damping", type=float, default=0.3)
-    parser.add_argument("--rolling-damping", dest="rolling_damping", type=float, default=0.3)
+    parser.add_argument("--dt-fraction", dest="dt_fraction", type=float, default=25,
+                        help="time step = t_c / DT_FRACTION (default 25)")
+    parser.add_argument("--damping", type=float, default=0.3,
+                        help="normal and tangential damping, fraction of critical (default 0.3)")
+    parser.add_argument("--rolling-damping", dest="rolling_damping", type=float, default=0.3,
+                        help="rolling damping, fraction of critical; 0: none (default 0.3)")
     parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
                         help="any other deck variable, for both decks (repeatable)")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="tasks run at once")

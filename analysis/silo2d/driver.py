@@ -249,8 +249,8 @@ def parse(argv):
                         help="at most this many segments per mu in this call")
     parser.add_argument("--mpi", type=int, default=1, help="ranks per run (mpirun -np)")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="segments at once (of different mu)")
-    parser.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
-                        help="another deck variable, the same for every segment")
+    parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
+                        help="another deck variable, the same for every segment (repeatable)")
     args = parser.parse_args(argv)
     if args.arches < 1:
         parser.error("--arches must be >= 1")
@@ -260,6 +260,10 @@ def parse(argv):
         parser.error("--dt must be > 0")
     reserved = {"mu", "dt", "seed", "quick", "narches", "segment", "segment_time", "state",
                 "inputs"}
+    for item in args.var:
+        if "=" not in item:
+            parser.error(f"--var {item}: expected NAME=VALUE")
+    args.var = [tuple(item.split("=", 1)) for item in args.var]
     for name, _ in args.var:
         if name in reserved:
             parser.error(f"--var {name}: set by the driver itself")

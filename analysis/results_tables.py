@@ -1,7 +1,7 @@
 """The results tables of the scene pages and the README, made from doc/data.
 
 Every number a page gives against a paper comes from a record in doc/data
-(doc/data/README.md). Each scene's module `analysis.<scene>_results` has a
+(doc/data/README.md). Each scene's module `analysis.<scene>.results` has a
 function `results_rows(data_dir)` that computes the scene's rows from those
 records; this module turns the rows into Markdown tables and puts them into
 the pages between two markers:

@@ -7,7 +7,6 @@ fail on the numbers (they do stop when LIGGGHTS stops with an error)."""
 
 import datetime
 import hashlib
-import math
 import os
 import platform
 import re
@@ -280,15 +279,3 @@ def write_raw(name, text):
 def spread(values):
     """median, min, max of a list."""
     return statistics.median(values), min(values), max(values)
-
-
-def mean_ci(values, level=0.95):
-    """Mean and the half-width of its Student-t confidence interval (nan
-    for fewer than two values)."""
-    from scipy import stats
-    values = [float(v) for v in values]
-    mean = statistics.fmean(values)
-    if len(values) < 2:
-        return mean, math.nan
-    half = stats.t.ppf(0.5 + level / 2, len(values) - 1) * statistics.stdev(values) / math.sqrt(len(values))
-    return mean, float(half)

@@ -36,6 +36,7 @@ import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.lammps_io import read_dump  # noqa: E402
+from analysis.common.stats import mean_t_ci  # noqa: E402
 from analysis.common.tables import read_rows  # noqa: E402
 
 INPUTS = benchlib.INPUTS
@@ -144,11 +145,11 @@ def measure_accuracy(fractions, seeds, length, widths, quick):
         piles = read_rows(out / "piles.txt")
         row = {"fraction": fraction, "cpu": cpu, "piles": len(piles),
                "settled": sum(1 for p in piles if p["status"] == 1),
-               "h0": benchlib.mean_ci([p["h0"] for p in piles])}
+               "h0": mean_t_ci([p["h0"] for p in piles])}
         for w in widths:
             h = [r["h"] for r in records if abs(r["w"] - w) < 1e-6]
             jammed = sum(1 for value in h if value > 0)
-            row[w] = {"n": len(h), "mean": benchlib.mean_ci(h), "jam": jammed / len(h),
+            row[w] = {"n": len(h), "mean": mean_t_ci(h), "jam": jammed / len(h),
                       "jam_ci": proportion_ci(jammed, len(h))}
         rows.append(row)
     return rows

@@ -41,6 +41,7 @@ sys.path.insert(0, str(benchlib.ROOT))
 from analysis.silo3d_rotating.flow import analyse_flow  # noqa: E402
 from analysis.silo3d_rotating.records import load_run  # noqa: E402
 from analysis.common.stl import annulus_triangles, write_stl  # noqa: E402
+from analysis.common.stats import mean_t_ci  # noqa: E402
 
 T_CONTACT = 1.5797e-4        # s, the deck's grain-grain contact time
 D = 0.06
@@ -132,7 +133,7 @@ def measure_accuracy(work, fractions, seeds, flow_time, transient):
             simulated += 0.4 + flow_time
             benchlib.progress(f"accuracy, dt = t_c/{fraction}, seed {seed}: Q = {flow.q_mass:.4f} "
                               f"+- {flow.q_mass_se:.4f} kg/s, {result['cpu']:.0f} s CPU")
-        mean, half = benchlib.mean_ci(qs)
+        mean, half = mean_t_ci(qs)
         rows.append({"fraction": fraction, "dt": T_CONTACT / fraction, "Q": mean, "Q_ci": half,
                      "Q_all": qs, "cpu_per_s": cpu / simulated})
     return rows

@@ -7,7 +7,7 @@
    Per rod (atom_style spherocylinder) the unit vector of its axis in the
    space frame, 3 columns (c_ID[1] c_ID[2] c_ID[3] in dump custom), 0 for
    atoms outside the group: what the coarse graining of orientation
-   (analysis/coarse_grain.py, O_ij and S) is made from. Documentation:
+   (analysis/common/coarse_grain.py, O_ij and S) is made from. Documentation:
    doc/spherocylinder.md.
 ------------------------------------------------------------------------- */
 

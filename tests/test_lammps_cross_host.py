@@ -47,6 +47,17 @@ fix m_v all property/global characteristicVelocity scalar 1.0
 fix m_mu all property/global coefficientFriction peratomtypepair 1 0.3
 fix m_rv all property/global coefficientRollingViscousDamping peratomtypepair 1 0.2""",
         "normal hooke 5e6 0.3 0.8 1.0 friction 0.3 rolling jiang 1 1 lc overlap rolling_damping 0.2"),
+    "hooke_stiffness_options_depth_lc": (
+        "model hooke/stiffness tangential history rolling_friction jiang absolute_damping on "
+        "limitForce on tangential_damping off contactLengthFromDepth on rollingStiffnessFactor 2 "
+        "rollingFrictionFactor 0.5",
+        """fix m_kn all property/global kn peratomtypepair 1 1e5
+fix m_kt all property/global kt peratomtypepair 1 4e4
+fix m_gn all property/global gamman_abs peratomtypepair 1 1.0
+fix m_gt all property/global gammat_abs peratomtypepair 1 0.5
+fix m_mu all property/global coefficientFriction peratomtypepair 1 0.3""",
+        "normal hooke/stiffness 1e5 4e4 1.0 0.5 friction 0.3 rolling jiang 2 0.5 lc depth "
+        "absolute_damping yes limit_force yes tangential_damping no"),
 }
 
 

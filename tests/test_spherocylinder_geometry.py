@@ -243,6 +243,22 @@ def plate_distance(rod, plate, t):
     return nearest_plate_point(rod.core(t), plate)[1]
 
 
+def plate_distances(rod, plate, ts):
+    """plate_distance at each t of the array ts at once (the same rule as
+    nearest_plate_point, in numpy over the points: the dense scan's values)."""
+    points = rod.core(ts)
+    offset = points - plate.centre
+    height = offset @ plate.axis
+    in_plane = offset - np.multiply.outer(height, plate.axis)
+    s = np.linalg.norm(in_plane, axis=-1)
+    over_plate = s >= plate.hole_radius
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direction = np.where((s > 0)[:, None], in_plane / s[:, None], any_normal_to(plate.axis))
+    nearest = np.where(over_plate[:, None], points - np.multiply.outer(height, plate.axis),
+                       plate.centre + plate.hole_radius * direction)
+    return np.linalg.norm(points - nearest, axis=-1)
+
+
 def hole_piece(rod, plate):
     """The closed piece [begin, end] of the core over the hole, from the
     roots of s(t)^2 = R^2, or None."""
@@ -262,20 +278,23 @@ def hole_piece(rod, plate):
     return max(first, -h), min(last, h)
 
 
-def minima_by_scan(f, begin, end, samples=4001):
+def minima_by_scan(f, begin, end, samples=4001, f_many=None):
     """Local minima of f over the closed interval: the discrete minima of a
     dense scan (ends included), each refined by Brent's method on its
-    bracket, an end kept when the refinement does no better."""
+    bracket, an end kept when the refinement does no better. f_many(ts),
+    if given, is f over an array at once (the scan's values; the
+    refinement calls f)."""
     if begin == end:
         return [begin]
     scan = np.linspace(begin, end, samples)
-    values = np.array([f(t) for t in scan])
+    values = f_many(scan) if f_many is not None else np.array([f(t) for t in scan])
+    lower_ok = np.ones(samples, dtype=bool)
+    upper_ok = np.ones(samples, dtype=bool)
+    lower_ok[1:] = values[1:] < values[:-1]
+    upper_ok[:-1] = values[:-1] <= values[1:]
     minima = []
-    for k in range(samples):
-        lower_ok = k == 0 or values[k] < values[k - 1]
-        upper_ok = k == samples - 1 or values[k] <= values[k + 1]
-        if not (lower_ok and upper_ok):
-            continue
+    for k in np.flatnonzero(lower_ok & upper_ok):
+        k = int(k)
         bracket = (scan[max(k - 1, 0)], scan[min(k + 1, samples - 1)])
         refined = minimize_scalar(f, bounds=bracket, method="bounded", options={"xatol": 1e-14}).x
         if k in (0, samples - 1) and f(scan[k]) <= f(refined):
@@ -295,7 +314,8 @@ def brute_force_plate_candidates(rod, plate):
                   or in_plane_distance(rod.core(t), plate) >= plate.hole_radius]
     candidates = list(over_plate)
     if piece is not None:
-        for t in minima_by_scan(lambda t: plate_distance(rod, plate, t), *piece):
+        for t in minima_by_scan(lambda t: plate_distance(rod, plate, t), *piece,
+                                f_many=lambda ts: plate_distances(rod, plate, ts)):
             if not any(t == end for end in over_plate):
                 candidates.append(t)
     return sorted(candidates)

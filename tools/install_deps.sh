@@ -3,7 +3,8 @@
 # Open MPI, VTK (LIGGGHTS' ParaView dump styles, doc/vtk_output.md), Debian's
 # liggghts (the reference binary) and liggghts-doc (its tutorials, which
 # bench/stock_tutorials.py runs), Python with numpy, scipy, matplotlib,
-# pytest and VTK's bindings (the tests read the frames back with them),
+# pytest (and pytest-xdist: tools/test.sh --fast runs on two workers) and
+# VTK's bindings (the tests read the frames back with them),
 # setuptools and venv (pip install -e . of pyproject.toml, offline), and a
 # deb-src entry so that `apt-get source liggghts` works. Does nothing when
 # everything is already there.
@@ -11,7 +12,7 @@ set -euo pipefail
 
 packages=(build-essential cmake ccache patch xz-utils dpkg-dev
           openmpi-bin libopenmpi-dev libvtk9-dev liggghts liggghts-doc
-          python3 python3-numpy python3-scipy python3-matplotlib python3-pytest python3-vtk9
+          python3 python3-numpy python3-scipy python3-matplotlib python3-pytest python3-pytest-xdist python3-vtk9
           python3-setuptools python3-venv)
 
 # deb-src for Debian's main archive, same mirror and suite as the existing

@@ -10,6 +10,7 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "fix_wall_gran_rotating_lammps.h"
 #include "pair_granular_jiang.h"
 
 using namespace LAMMPS_NS;
@@ -19,6 +20,11 @@ namespace {
 Pair *granular_jiang_creator(LAMMPS *lmp)
 {
   return new PairGranularJiang(lmp);
+}
+
+Fix *wall_gran_rotating_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixWallGranRotating(lmp, argc, argv);
 }
 
 }    // namespace
@@ -36,5 +42,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "granular/jiang";
   plugin.info = "silokit: LIGGGHTS' hooke contact law with Jiang's rolling resistance";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &granular_jiang_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "wall/gran/rotating";
+  plugin.info = "silokit: flat plate with an orifice, turning about the silo axis";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &wall_gran_rotating_creator;
   (*register_plugin)(&plugin, lmp);
 }

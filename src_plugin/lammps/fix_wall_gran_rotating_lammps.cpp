@@ -63,7 +63,7 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
     youngs(0.0), poisson(0.0), restitution(0.0), characteristic_velocity(0.0),
     youngs_effective(0.0), absolute_damping(false), tangential_damping(true),
     limit_force(false), mu(-1.0), normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
-    open_time(0.0), time_restored(0.0), host_time_at_restore(0.0), history(nullptr),
+    open_time(0.0), clock_time(0.0), clock_step(0), clock_dt(0.0), history(nullptr),
     reduced_step(-1)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
@@ -72,6 +72,11 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   for (int k = 0; k < 3; ++k) centre[k] = axis[k] = 0.0;
   parse(narg, arg);
   check_geometry();
+
+  // the schedule starts at LAMMPS' time now (0 in a fresh run)
+  clock_time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  clock_step = update->ntimestep;
+  clock_dt = update->dt;
 
   vector_flag = 1;
   size_vector = 4;
@@ -291,6 +296,13 @@ int FixWallGranRotating::setmask()
 
 void FixWallGranRotating::init()
 {
+  // a new time step (the timestep command between runs): the clock goes
+  // on from the time reached with the old one
+  if (update->dt != clock_dt) {
+    clock_time = schedule_time();
+    clock_step = update->ntimestep;
+    clock_dt = update->dt;
+  }
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, "{} does not support run_style respa", STYLE);
 }
@@ -301,19 +313,16 @@ void FixWallGranRotating::setup(int vflag)
 }
 
 /* ----------------------------------------------------------------------
-   time: LAMMPS 20220106 does not keep the time in restart files (after
-   read_restart it reads step x dt); the schedule keeps the time reached
-   in our restart data and adds the LAMMPS time run since it was read
+   time: after read_restart LAMMPS 20220106 reads its time as 0 at the
+   restart's step (measured: thermo `time`). The schedule keeps its own
+   clock, clock_time at clock_step and clock_dt per step since, and writes
+   all three to the restart file: a continued run then computes the same
+   time, with the same operations, as the uninterrupted one.
 ------------------------------------------------------------------------- */
-
-double FixWallGranRotating::host_time() const
-{
-  return update->atime + (update->ntimestep - update->atimestep) * update->dt;
-}
 
 double FixWallGranRotating::schedule_time() const
 {
-  return time_restored + (host_time() - host_time_at_restore);
+  return clock_time + (update->ntimestep - clock_step) * clock_dt;
 }
 
 double FixWallGranRotating::angular_velocity() const
@@ -328,20 +337,21 @@ double FixWallGranRotating::hole_radius_now() const
 
 void FixWallGranRotating::write_restart(FILE *fp)
 {
-  const double reached = schedule_time();
+  const double state[3] = {clock_time, (double) clock_step, clock_dt};
   if (comm->me == 0) {
-    const int size = sizeof(double);
+    const int size = sizeof(state);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(&reached, sizeof(double), 1, fp);
+    fwrite(state, sizeof(double), 3, fp);
   }
 }
 
 void FixWallGranRotating::restart(char *buf)
 {
-  double reached;
-  std::memcpy(&reached, buf, sizeof(double));
-  time_restored = reached;
-  host_time_at_restore = host_time();
+  double state[3];
+  std::memcpy(state, buf, sizeof(state));
+  clock_time = state[0];
+  clock_step = (bigint) state[1];
+  clock_dt = state[2];
 }
 
 /* ----------------------------------------------------------------------

@@ -71,11 +71,12 @@ class FixWallGranRotating : public Fix {
   double omega;             // rad/s once rotating, >= 0
   double start_time, open_time;
 
-  // time: restored (the schedule time written to the restart file read)
-  // plus the LAMMPS time run since that file was read
-  double time_restored;
-  double host_time_at_restore;
-  double host_time() const;
+  // the schedule's clock, our own (LAMMPS 20220106 keeps no time in
+  // restart files): the time clock_time at step clock_step, then dt per
+  // step; rebased when dt changes between runs, written to restart files
+  double clock_time;
+  bigint clock_step;
+  double clock_dt;
 
   double **history;         // per atom: tangential spring (3)
 

@@ -15,6 +15,7 @@
 
 #include "contact_law.h"
 #include "orifice_plate.h"
+#include "rolling_law_jiang.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -24,6 +25,7 @@
 #include "memory.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -62,7 +64,9 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), normal_model(-1), kn(0.0), kt(0.0), gamman(0.0), gammat(0.0),
     youngs(0.0), poisson(0.0), restitution(0.0), characteristic_velocity(0.0),
     youngs_effective(0.0), absolute_damping(false), tangential_damping(true),
-    limit_force(false), mu(-1.0), normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
+    limit_force(false), mu(-1.0), rolling(false), stiffness_factor(0.0),
+    friction_factor(0.0), length_mode(LENGTH_FIXED), contact_length(0.0), rolling_damping(0.0),
+    normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
     open_time(0.0), clock_time(0.0), clock_step(0), clock_dt(0.0), history(nullptr),
     reduced_step(-1)
 {
@@ -110,8 +114,9 @@ FixWallGranRotating::~FixWallGranRotating()
 /* ----------------------------------------------------------------------
    fix ID group wall/gran/rotating
        normal hooke/stiffness kn kt gamman gammat | normal hooke Y nu e v_char
-       friction mu [tangential_damping yes|no] [absolute_damping yes|no]
-       [limit_force yes|no]
+       friction mu [rolling jiang a b lc <length|overlap|depth>]
+       [rolling_damping eta] [tangential_damping yes|no]
+       [absolute_damping yes|no] [limit_force yes|no]
        xplane|yplane|zplane c
        [orifice D] [center x y z] [axis ax ay az] [omega w | frequency f]
        [start t0] [open t1]
@@ -173,6 +178,45 @@ void FixWallGranRotating::parse(int narg, char **arg)
       mu = parse_number(error, "friction", arg[iarg + 1]);
       if (!(mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
       iarg += 2;
+    } else if (keyword == "rolling") {
+      need(iarg, 1, "rolling");
+      const std::string model = arg[iarg + 1];
+      if (model == "none") {
+        rolling = false;
+        iarg += 2;
+        continue;
+      }
+      if (model != "jiang")
+        error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
+      need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
+      rolling = true;
+      stiffness_factor = parse_number(error, "rolling jiang a", arg[iarg + 2]);
+      friction_factor = parse_number(error, "rolling jiang b", arg[iarg + 3]);
+      if (!(stiffness_factor > 0.0))
+        error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
+      if (!(friction_factor > 0.0))
+        error->all(FLERR, "{}: rolling jiang b (friction factor) must be > 0", STYLE);
+      if (std::strcmp(arg[iarg + 4], "lc") != 0)
+        error->all(FLERR, "{}: rolling jiang a b is followed by lc, got '{}'", STYLE,
+                   arg[iarg + 4]);
+      const std::string length = arg[iarg + 5];
+      if (length == "overlap")
+        length_mode = LENGTH_OVERLAP;
+      else if (length == "depth")
+        length_mode = LENGTH_DEPTH;
+      else {
+        length_mode = LENGTH_FIXED;
+        contact_length = parse_number(error, "rolling jiang lc", arg[iarg + 5]);
+        if (!(contact_length >= 0.0))
+          error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
+                     "overlap or depth", STYLE);
+      }
+      iarg += 6;
+    } else if (keyword == "rolling_damping") {
+      need(iarg, 1, "rolling_damping");
+      rolling_damping = parse_number(error, "rolling_damping", arg[iarg + 1]);
+      if (!(rolling_damping >= 0.0)) error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
+      iarg += 2;
     } else if (keyword == "tangential_damping" || keyword == "absolute_damping" ||
                keyword == "limit_force") {
       need(iarg, 1, keyword);
@@ -227,8 +271,8 @@ void FixWallGranRotating::parse(int narg, char **arg)
       iarg += 2;
     } else {
       error->all(FLERR,
-                 "{}: unknown keyword '{}' (normal, friction, tangential_damping, "
-                 "absolute_damping, limit_force, xplane, yplane, zplane, orifice, center, axis, "
+                 "{}: unknown keyword '{}' (normal, friction, rolling, rolling_damping, "
+                 "tangential_damping, absolute_damping, limit_force, xplane, yplane, zplane, orifice, center, axis, "
                  "omega, frequency, start, open)",
                  STYLE, keyword);
     }
@@ -238,6 +282,8 @@ void FixWallGranRotating::parse(int narg, char **arg)
   if (mu < 0.0) error->all(FLERR, "{}: friction is required", STYLE);
   if (normal_model == NORMAL_HOOKE && absolute_damping)
     error->all(FLERR, "{}: absolute_damping applies to normal hooke/stiffness only", STYLE);
+  if (rolling_damping > 0.0 && !rolling)
+    error->all(FLERR, "{}: rolling_damping needs rolling jiang", STYLE);
   if (normal < 0) error->all(FLERR, "{}: the plate is required: xplane, yplane or zplane c", STYLE);
   if (have_omega && have_frequency)
     error->all(FLERR, "{}: give either omega or frequency, not both", STYLE);
@@ -377,6 +423,11 @@ void FixWallGranRotating::post_force(int)
   const double spin = angular_velocity();
   const double hole = hole_radius_now();
   const double dt = update->dt;
+  // the plate's own angular velocity: Jiang's law takes the rotation
+  // relative to it (no change at a flat contact, where the plate's spin is
+  // about the normal, but at the rim)
+  double plate_spin[3];
+  for (int k = 0; k < 3; ++k) plate_spin[k] = spin * axis[k];
 
   for (int k = 0; k < 3; ++k) local_sums[k] = 0.0;
   reduced_step = -1;
@@ -407,8 +458,13 @@ void FixWallGranRotating::post_force(int)
     else
       spring = law::hooke_stiffness(kn, kt, gamman, gammat, rmass[i], absolute_damping,
                                     tangential_damping);
-    const law::ContactForces c =
-        law::contact_forces(kin, spring, mu, dt, limit_force, advance, history[i]);
+    law::ContactForces c = law::contact_forces(kin, spring, mu, dt, limit_force, advance,
+                                               &history[i][HISTORY_SHEAR]);
+    if (rolling) {
+      double rolling[3];
+      rolling_torque(i, kin.n, kin.overlap, spring.kn, plate_spin, advance, rolling);
+      for (int k = 0; k < 3; ++k) c.torque_i[k] += rolling[k];
+    }
 
     for (int k = 0; k < 3; ++k) {
       f[i][k] += c.force_i[k];
@@ -429,6 +485,61 @@ void FixWallGranRotating::post_force(int)
       local_sums[1] -= moment[k] * axis[k];
     }
     local_sums[2] += 1.0;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Jiang's rolling spring at the plate, as rolling_model_jiang.h drives it
+   in LIGGGHTS for a wall: relative rotation to the plate's, l_c of a
+   sphere against a flat wall, reduced inertia of the grain alone
+------------------------------------------------------------------------- */
+
+void FixWallGranRotating::rolling_torque(int i, const double *n, double overlap, double kn,
+                                         const double *plate_spin, bool advance, double *torque)
+{
+  namespace jiang = silokit::jiang;
+  double **omega_atom = atom->omega;
+  const double radius = atom->radius[i];
+  const double dt = update->dt;
+
+  double relative_omega[3];
+  for (int d = 0; d < 3; ++d) relative_omega[d] = omega_atom[i][d] - plate_spin[d];
+  jiang::remove_normal_component(relative_omega, n);
+
+  double length;
+  if (length_mode == LENGTH_DEPTH)
+    length = std::max(overlap, 0.0);
+  else if (length_mode == LENGTH_OVERLAP)
+    length = jiang::wall_overlap_contact_length(radius, overlap);
+  else {
+    length = contact_length;
+    if (length > 2.0 * radius)
+      error->one(FLERR, "{}: rolling jiang lc {} is larger than the diameter {} of a grain in "
+                 "contact", STYLE, length, 2.0 * radius);
+  }
+  const jiang::RollingSpring spring =
+      jiang::rolling_spring(kn, overlap, mu, length, stiffness_factor, friction_factor);
+
+  double *stored = &history[i][HISTORY_ROLLING];
+  double angle[3] = {stored[0], stored[1], stored[2]};
+  if (advance) {
+    jiang::rotate_into_tangent_plane(angle, n);
+    jiang::adapt_to_stiffness(angle, history[i][HISTORY_STIFFNESS], spring.stiffness);
+    for (int d = 0; d < 3; ++d) angle[d] += relative_omega[d] * dt;
+  }
+  const bool rolls = jiang::spring_torque(angle, spring.stiffness, spring.torque_limit, torque);
+  if (advance) {
+    for (int d = 0; d < 3; ++d) stored[d] = angle[d];
+    history[i][HISTORY_STIFFNESS] = spring.stiffness;
+  }
+
+  // viscous rolling damping on the elastic branch only; a wall: the
+  // grain's inertia about the contact point, disc 3/2 m r^2, sphere 7/5 m r^2
+  if (rolling_damping > 0.0 && !rolls) {
+    const double factor = domain->dimension == 2 ? 1.5 : 1.4;
+    const double inertia = factor * atom->rmass[i] * radius * radius;
+    const double damping = rolling_damping * 2.0 * std::sqrt(inertia * spring.stiffness);
+    for (int d = 0; d < 3; ++d) torque[d] -= damping * relative_omega[d];
   }
 }
 

@@ -53,7 +53,10 @@ class FixWallGranRotating : public Fix {
   double hole_radius_now() const;      // 0 (closed) before `open`
 
   enum { NORMAL_HOOKE_STIFFNESS = 0, NORMAL_HOOKE = 1 };
-  enum { HISTORY_SIZE = 3 };           // the tangential spring
+  enum { LENGTH_FIXED = 0, LENGTH_OVERLAP = 1, LENGTH_DEPTH = 2 };
+  // per-atom history: tangential spring (3), rolling angle (3), k_r of the
+  // last step (1), as pair granular/jiang keeps it per pair
+  enum { HISTORY_SHEAR = 0, HISTORY_ROLLING = 3, HISTORY_STIFFNESS = 6, HISTORY_SIZE = 7 };
 
  private:
   // contact law (the pair_coeff keywords of pair granular/jiang)
@@ -62,6 +65,11 @@ class FixWallGranRotating : public Fix {
   double youngs, poisson, restitution, characteristic_velocity, youngs_effective;
   bool absolute_damping, tangential_damping, limit_force;
   double mu;
+  bool rolling;                        // Jiang's rolling resistance
+  double stiffness_factor, friction_factor;   // Jiang's a, b
+  int length_mode;
+  double contact_length;               // l_c of LENGTH_FIXED
+  double rolling_damping;              // viscous rolling damping ratio (0: none)
 
   // the plate
   double centre[3];         // a point of the axis, in the plane of the plate
@@ -78,7 +86,11 @@ class FixWallGranRotating : public Fix {
   bigint clock_step;
   double clock_dt;
 
-  double **history;         // per atom: tangential spring (3)
+  double **history;         // per atom: HISTORY_SIZE values
+
+  // Jiang's rolling torque on grain i at its contact with the plate
+  void rolling_torque(int i, const double *normal, double overlap, double kn,
+                      const double *plate_spin, bool advance, double *torque);
 
   double local_sums[3];     // axial force, axial torque on the plate, contacts
   double global_sums[3];

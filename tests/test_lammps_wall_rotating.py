@@ -148,6 +148,30 @@ def test_a_grain_on_the_rim_edge_is_pushed_along_the_rim_normal(tmp_path):
     assert run.frames("dump.traj")[-1]["x"][0] < hole_radius - inside
 
 
+def test_a_2d_slot_holds_a_disc_beside_it_and_lets_one_over_it_fall(tmp_path):
+    """dimension 2, a yplane with a slot of 3 diameters: a disc beside the
+    slot rests on the plate with its weight (m = pi r^2 rho, set
+    density/disc); one over the slot falls through."""
+    slot = 0.03
+    mass = DENSITY * math.pi * RADIUS ** 2
+    y = RADIUS - mass * G / KN
+    atoms = (f"create_atoms 1 single {slot / 2 + 0.2 * RADIUS!r} {y!r} 0 units box\n"
+             "create_atoms 1 single -0.002 0.008 0 units box")
+    text = deck(atoms, f"yplane 0 orifice {slot}", 10000)
+    for three, two in (("boundary f f f", "dimension 2\nboundary f f p"),
+                       ("density 2500.0", "density/disc 2500.0"),
+                       ("vector 0 0 -1", "vector 0 -1 0"),
+                       ("fix integrate all nve/sphere", "fix flat all enforce2d\nfix integrate all nve/sphere disc")):
+        assert three in text
+        text = text.replace(three, two)
+    run = run_lammps(text, tmp_path)
+    thermo = run.thermo()
+    np.testing.assert_allclose(thermo["v_load"], -mass * G, rtol=1e-9)
+    last = run.frames("dump.traj")[-1]
+    assert abs(last.atom(1)["y"] - y) < 1e-12
+    assert last.atom(2)["y"] < -2 * RADIUS
+
+
 # ---------------------------------------------------------------- LIGGGHTS
 
 # (LIGGGHTS' model arguments, its model settings (after the primitive), its
@@ -330,6 +354,36 @@ def test_restart_mid_contact_continues_the_run(tmp_path):
         steps = continued.thermo()["Step"]
         # the plate turns from t = 0.1 s (step 10000) in the continued run too
         assert np.all(spin[steps < 10000] == 0) and np.all(spin[steps >= 10000] == 6)
+
+
+def test_restart_with_damping_continues_the_run_to_round_off(tmp_path):
+    """With damping the continued run differs from the uninterrupted one:
+    its set-up force call sees the full-step velocities written to the
+    restart file, where the uninterrupted run's force of that step saw the
+    half-step ones. Measured (cut at step 14000, grains rolling): positions
+    to 9e-14 m, velocities to 8e-10 m/s (of 0.06 m/s), spins to 4e-7 rad/s
+    (of about 10 rad/s); the test allows 1e-6 (a lost or wrong history
+    moves them by far more)."""
+    cut = 14000
+    undamped = f"normal hooke/stiffness {KN} {KT} 0 0"
+    damped = f"normal hooke/stiffness {KN} {KT} 100 50"
+    whole, first, second = (d.replace(undamped, damped) for d in restart_decks(20000, cut))
+    reference = run_lammps(whole, tmp_path / "whole")
+    run_lammps(first, tmp_path / "split")
+    continued = run_lammps(second, tmp_path / "split")
+    frames = [f for f in reference.frames("dump.traj") if f.step >= cut]
+    assert_dumps_close(continued.frames("dump.second"), frames, rtol=1e-6, atol=1e-6)
+
+
+def test_a_new_time_step_keeps_the_schedule(tmp_path):
+    """`timestep` between two runs: the schedule's clock goes on from the
+    time reached. 0.05 s at 1e-5 s, then 2e-5 s steps: the plate starts
+    (t = 0.1 s) at step 5000 + 0.05 / 2e-5 = 7500."""
+    text = deck(FOUR_GRAINS, "zplane 0 omega 6 start 0.1", 5000, thermo=100)
+    text += "timestep 2e-5\nrun 5000\n"
+    thermo = run_lammps(text, tmp_path).thermo()
+    steps, spin = thermo["Step"], thermo["v_spin"]
+    assert np.all(spin[steps < 7500] == 0) and np.all(spin[steps >= 7500] == 6)
 
 
 # ---------------------------------------------------------------- bad input

@@ -21,6 +21,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "lammps_args.h"
 #include "math_const.h"
 #include "memory.h"
 #include "update.h"
@@ -38,24 +39,6 @@ namespace {
 
 const char *const STYLE = "fix wall/gran/rotating";
 const double UNIT_TOLERANCE = 1e-6;
-
-double parse_number(Error *error, const std::string &keyword, const char *text)
-{
-  char *end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value))
-    error->all(FLERR, "{}: {} expects a number, got '{}'", STYLE, keyword, text);
-  return value;
-}
-
-bool parse_yes_no(Error *error, const std::string &keyword, const char *text)
-{
-  if (std::strcmp(text, "yes") == 0) return true;
-  if (std::strcmp(text, "no") == 0) return false;
-  error->all(FLERR, "{}: {} expects yes or no, got '{}'", STYLE, keyword, text);
-  return false;
-}
-
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -141,10 +124,10 @@ void FixWallGranRotating::parse(int narg, char **arg)
       if (model == "hooke/stiffness") {
         need(iarg + 1, 4, "normal hooke/stiffness (kn kt gamman gammat)");
         normal_model = NORMAL_HOOKE_STIFFNESS;
-        kn = parse_number(error, "normal hooke/stiffness kn", arg[iarg + 2]);
-        kt = parse_number(error, "normal hooke/stiffness kt", arg[iarg + 3]);
-        gamman = parse_number(error, "normal hooke/stiffness gamman", arg[iarg + 4]);
-        gammat = parse_number(error, "normal hooke/stiffness gammat", arg[iarg + 5]);
+        kn = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kn", arg[iarg + 2]);
+        kt = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kt", arg[iarg + 3]);
+        gamman = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gamman", arg[iarg + 4]);
+        gammat = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gammat", arg[iarg + 5]);
         if (!(kn > 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kn must be > 0", STYLE);
         if (!(kt >= 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kt must be >= 0", STYLE);
         if (!(gamman >= 0.0))
@@ -154,10 +137,10 @@ void FixWallGranRotating::parse(int narg, char **arg)
       } else if (model == "hooke") {
         need(iarg + 1, 4, "normal hooke (Y nu e v_char)");
         normal_model = NORMAL_HOOKE;
-        youngs = parse_number(error, "normal hooke Y", arg[iarg + 2]);
-        poisson = parse_number(error, "normal hooke nu", arg[iarg + 3]);
-        restitution = parse_number(error, "normal hooke e", arg[iarg + 4]);
-        characteristic_velocity = parse_number(error, "normal hooke v_char", arg[iarg + 5]);
+        youngs = silokit_lammps::parse_number(error, STYLE, "normal hooke Y", arg[iarg + 2]);
+        poisson = silokit_lammps::parse_number(error, STYLE, "normal hooke nu", arg[iarg + 3]);
+        restitution = silokit_lammps::parse_number(error, STYLE, "normal hooke e", arg[iarg + 4]);
+        characteristic_velocity = silokit_lammps::parse_number(error, STYLE, "normal hooke v_char", arg[iarg + 5]);
         if (!(youngs > 0.0)) error->all(FLERR, "{}: normal hooke Y must be > 0", STYLE);
         if (!(poisson > -1.0 && poisson <= 0.5))
           error->all(FLERR, "{}: normal hooke nu must be in (-1, 0.5]", STYLE);
@@ -175,7 +158,7 @@ void FixWallGranRotating::parse(int narg, char **arg)
       iarg += 6;
     } else if (keyword == "friction") {
       need(iarg, 1, "friction");
-      mu = parse_number(error, "friction", arg[iarg + 1]);
+      mu = silokit_lammps::parse_number(error, STYLE, "friction", arg[iarg + 1]);
       if (!(mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
       iarg += 2;
     } else if (keyword == "rolling") {
@@ -190,8 +173,8 @@ void FixWallGranRotating::parse(int narg, char **arg)
         error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
       need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
       rolling = true;
-      stiffness_factor = parse_number(error, "rolling jiang a", arg[iarg + 2]);
-      friction_factor = parse_number(error, "rolling jiang b", arg[iarg + 3]);
+      stiffness_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang a", arg[iarg + 2]);
+      friction_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang b", arg[iarg + 3]);
       if (!(stiffness_factor > 0.0))
         error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
       if (!(friction_factor > 0.0))
@@ -206,7 +189,7 @@ void FixWallGranRotating::parse(int narg, char **arg)
         length_mode = LENGTH_DEPTH;
       else {
         length_mode = LENGTH_FIXED;
-        contact_length = parse_number(error, "rolling jiang lc", arg[iarg + 5]);
+        contact_length = silokit_lammps::parse_number(error, STYLE, "rolling jiang lc", arg[iarg + 5]);
         if (!(contact_length >= 0.0))
           error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
                      "overlap or depth", STYLE);
@@ -214,13 +197,13 @@ void FixWallGranRotating::parse(int narg, char **arg)
       iarg += 6;
     } else if (keyword == "rolling_damping") {
       need(iarg, 1, "rolling_damping");
-      rolling_damping = parse_number(error, "rolling_damping", arg[iarg + 1]);
+      rolling_damping = silokit_lammps::parse_number(error, STYLE, "rolling_damping", arg[iarg + 1]);
       if (!(rolling_damping >= 0.0)) error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
       iarg += 2;
     } else if (keyword == "tangential_damping" || keyword == "absolute_damping" ||
                keyword == "limit_force") {
       need(iarg, 1, keyword);
-      const bool value = parse_yes_no(error, keyword, arg[iarg + 1]);
+      const bool value = silokit_lammps::parse_yes_no(error, STYLE, keyword, arg[iarg + 1]);
       if (keyword == "tangential_damping") tangential_damping = value;
       else if (keyword == "absolute_damping") absolute_damping = value;
       else limit_force = value;
@@ -229,34 +212,34 @@ void FixWallGranRotating::parse(int narg, char **arg)
       need(iarg, 1, keyword);
       if (normal >= 0) error->all(FLERR, "{}: {}: give one plane only", STYLE, keyword);
       normal = keyword[0] - 'x';
-      plane = parse_number(error, keyword, arg[iarg + 1]);
+      plane = silokit_lammps::parse_number(error, STYLE, keyword, arg[iarg + 1]);
       iarg += 2;
     } else if (keyword == "orifice") {
       need(iarg, 1, "orifice");
-      const double diameter = parse_number(error, "orifice", arg[iarg + 1]);
+      const double diameter = silokit_lammps::parse_number(error, STYLE, "orifice", arg[iarg + 1]);
       if (!(diameter >= 0.0)) error->all(FLERR, "{}: orifice (the diameter) must be >= 0", STYLE);
       hole_radius = 0.5 * diameter;
       iarg += 2;
     } else if (keyword == "center") {
       need(iarg, 3, "center");
-      for (int k = 0; k < 3; ++k) center_given[k] = parse_number(error, "center", arg[iarg + 1 + k]);
+      for (int k = 0; k < 3; ++k) center_given[k] = silokit_lammps::parse_number(error, STYLE, "center", arg[iarg + 1 + k]);
       have_center = true;
       iarg += 4;
     } else if (keyword == "axis") {
       need(iarg, 3, "axis");
-      for (int k = 0; k < 3; ++k) axis_given[k] = parse_number(error, "axis", arg[iarg + 1 + k]);
+      for (int k = 0; k < 3; ++k) axis_given[k] = silokit_lammps::parse_number(error, STYLE, "axis", arg[iarg + 1 + k]);
       have_axis = true;
       iarg += 4;
     } else if (keyword == "omega") {
       need(iarg, 1, "omega");
-      omega = parse_number(error, "omega", arg[iarg + 1]);
+      omega = silokit_lammps::parse_number(error, STYLE, "omega", arg[iarg + 1]);
       if (!(omega >= 0.0))
         error->all(FLERR, "{}: omega must be >= 0 (the sense of rotation is that of axis)", STYLE);
       have_omega = true;
       iarg += 2;
     } else if (keyword == "frequency") {
       need(iarg, 1, "frequency");
-      const double frequency = parse_number(error, "frequency", arg[iarg + 1]);
+      const double frequency = silokit_lammps::parse_number(error, STYLE, "frequency", arg[iarg + 1]);
       if (!(frequency >= 0.0))
         error->all(FLERR, "{}: frequency must be >= 0 (the sense of rotation is that of axis)",
                    STYLE);
@@ -265,7 +248,7 @@ void FixWallGranRotating::parse(int narg, char **arg)
       iarg += 2;
     } else if (keyword == "start" || keyword == "open") {
       need(iarg, 1, keyword);
-      const double t = parse_number(error, keyword, arg[iarg + 1]);
+      const double t = silokit_lammps::parse_number(error, STYLE, keyword, arg[iarg + 1]);
       if (!(t >= 0.0)) error->all(FLERR, "{}: {} (a simulated time) must be >= 0", STYLE, keyword);
       (keyword == "start" ? start_time : open_time) = t;
       iarg += 2;

@@ -18,6 +18,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "lammps_args.h"
 #include "fix.h"
 #include "fix_dummy.h"
 #include "fix_neigh_history.h"
@@ -39,25 +40,6 @@ using namespace LAMMPS_NS;
 namespace {
 
 const char *const STYLE = "pair_coeff granular/jiang";
-
-// a number for `keyword`, or an ERROR naming the keyword and the text
-double parse_number(Error *error, const std::string &keyword, const char *text)
-{
-  char *end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value))
-    error->all(FLERR, "{}: {} expects a number, got '{}'", STYLE, keyword, text);
-  return value;
-}
-
-double parse_yes_no(Error *error, const std::string &keyword, const char *text)
-{
-  if (std::strcmp(text, "yes") == 0) return 1.0;
-  if (std::strcmp(text, "no") == 0) return 0.0;
-  error->all(FLERR, "{}: {} expects yes or no, got '{}'", STYLE, keyword, text);
-  return 0.0;
-}
-
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -364,10 +346,10 @@ void PairGranularJiang::coeff(int narg, char **arg)
       if (model == "hooke/stiffness") {
         need(iarg + 1, 4, "normal hooke/stiffness (kn kt gamman gammat)");
         c.normal_model = NORMAL_HOOKE_STIFFNESS;
-        c.kn = parse_number(error, "normal hooke/stiffness kn", arg[iarg + 2]);
-        c.kt = parse_number(error, "normal hooke/stiffness kt", arg[iarg + 3]);
-        c.gamman = parse_number(error, "normal hooke/stiffness gamman", arg[iarg + 4]);
-        c.gammat = parse_number(error, "normal hooke/stiffness gammat", arg[iarg + 5]);
+        c.kn = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kn", arg[iarg + 2]);
+        c.kt = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kt", arg[iarg + 3]);
+        c.gamman = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gamman", arg[iarg + 4]);
+        c.gammat = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gammat", arg[iarg + 5]);
         if (!(c.kn > 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kn must be > 0", STYLE);
         if (!(c.kt >= 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kt must be >= 0", STYLE);
         if (!(c.gamman >= 0.0))
@@ -378,10 +360,10 @@ void PairGranularJiang::coeff(int narg, char **arg)
       } else if (model == "hooke") {
         need(iarg + 1, 4, "normal hooke (Y nu e v_char)");
         c.normal_model = NORMAL_HOOKE;
-        c.youngs = parse_number(error, "normal hooke Y", arg[iarg + 2]);
-        c.poisson = parse_number(error, "normal hooke nu", arg[iarg + 3]);
-        c.restitution = parse_number(error, "normal hooke e", arg[iarg + 4]);
-        c.characteristic_velocity = parse_number(error, "normal hooke v_char", arg[iarg + 5]);
+        c.youngs = silokit_lammps::parse_number(error, STYLE, "normal hooke Y", arg[iarg + 2]);
+        c.poisson = silokit_lammps::parse_number(error, STYLE, "normal hooke nu", arg[iarg + 3]);
+        c.restitution = silokit_lammps::parse_number(error, STYLE, "normal hooke e", arg[iarg + 4]);
+        c.characteristic_velocity = silokit_lammps::parse_number(error, STYLE, "normal hooke v_char", arg[iarg + 5]);
         if (!(c.youngs > 0.0)) error->all(FLERR, "{}: normal hooke Y must be > 0", STYLE);
         if (!(c.poisson > -1.0 && c.poisson <= 0.5))
           error->all(FLERR, "{}: normal hooke nu must be in (-1, 0.5]", STYLE);
@@ -398,7 +380,7 @@ void PairGranularJiang::coeff(int narg, char **arg)
       }
     } else if (keyword == "friction") {
       need(iarg, 1, "friction");
-      c.mu = parse_number(error, "friction", arg[iarg + 1]);
+      c.mu = silokit_lammps::parse_number(error, STYLE, "friction", arg[iarg + 1]);
       if (!(c.mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
       iarg += 2;
     } else if (keyword == "rolling") {
@@ -413,8 +395,8 @@ void PairGranularJiang::coeff(int narg, char **arg)
         error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
       need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
       c.rolling = 1.0;
-      c.stiffness_factor = parse_number(error, "rolling jiang a", arg[iarg + 2]);
-      c.friction_factor = parse_number(error, "rolling jiang b", arg[iarg + 3]);
+      c.stiffness_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang a", arg[iarg + 2]);
+      c.friction_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang b", arg[iarg + 3]);
       if (!(c.stiffness_factor > 0.0))
         error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
       if (!(c.friction_factor > 0.0))
@@ -429,7 +411,7 @@ void PairGranularJiang::coeff(int narg, char **arg)
         c.length_mode = LENGTH_DEPTH;
       else {
         c.length_mode = LENGTH_FIXED;
-        c.contact_length = parse_number(error, "rolling jiang lc", arg[iarg + 5]);
+        c.contact_length = silokit_lammps::parse_number(error, STYLE, "rolling jiang lc", arg[iarg + 5]);
         if (!(c.contact_length >= 0.0))
           error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
                      "overlap or depth", STYLE);
@@ -437,21 +419,21 @@ void PairGranularJiang::coeff(int narg, char **arg)
       iarg += 6;
     } else if (keyword == "rolling_damping") {
       need(iarg, 1, "rolling_damping");
-      c.rolling_damping = parse_number(error, "rolling_damping", arg[iarg + 1]);
+      c.rolling_damping = silokit_lammps::parse_number(error, STYLE, "rolling_damping", arg[iarg + 1]);
       if (!(c.rolling_damping >= 0.0))
         error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
       iarg += 2;
     } else if (keyword == "tangential_damping") {
       need(iarg, 1, "tangential_damping");
-      c.tangential_damping = parse_yes_no(error, "tangential_damping", arg[iarg + 1]);
+      c.tangential_damping = silokit_lammps::parse_yes_no(error, STYLE, "tangential_damping", arg[iarg + 1]);
       iarg += 2;
     } else if (keyword == "absolute_damping") {
       need(iarg, 1, "absolute_damping");
-      c.absolute_damping = parse_yes_no(error, "absolute_damping", arg[iarg + 1]);
+      c.absolute_damping = silokit_lammps::parse_yes_no(error, STYLE, "absolute_damping", arg[iarg + 1]);
       iarg += 2;
     } else if (keyword == "limit_force") {
       need(iarg, 1, "limit_force");
-      c.limit_force = parse_yes_no(error, "limit_force", arg[iarg + 1]);
+      c.limit_force = silokit_lammps::parse_yes_no(error, STYLE, "limit_force", arg[iarg + 1]);
       iarg += 2;
     } else {
       error->all(FLERR,

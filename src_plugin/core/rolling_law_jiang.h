@@ -130,6 +130,39 @@ inline bool spring_torque(double rolling_angle[3], double stiffness, double torq
   return saturated;
 }
 
+// One step of a contact's rolling spring. rolling_angle holds the angle
+// stored at the last step (zero for a new contact) and, on return, this
+// step's; with `advance` it is first turned into the present tangent plane,
+// adapted to the present stiffness (old_stiffness: k_r of the last step)
+// and grown by relative_omega dt. Without `advance` (the force call that
+// sets up a run) the stored angle gives the torque as it is, so that a run
+// split in two or restarted continues exactly. Writes the torque on grain i
+// and returns true when the contact rolls. Every host adapter stores
+// rolling_angle and spring.stiffness back when advancing.
+inline bool step_rolling_spring(double rolling_angle[3], double old_stiffness,
+                                const double normal[3], const double relative_omega[3],
+                                const RollingSpring &spring, double dt, bool advance,
+                                double torque[3])
+{
+  if (advance) {
+    rotate_into_tangent_plane(rolling_angle, normal);
+    adapt_to_stiffness(rolling_angle, old_stiffness, spring.stiffness);
+    for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
+  }
+  return spring_torque(rolling_angle, spring.stiffness, spring.torque_limit, torque);
+}
+
+// Viscous rolling damping, for the elastic branch only (as LIGGGHTS'
+// epsd3: a rolling contact already dissipates through its cap): `ratio` of
+// the critical damping 2 sqrt(I k_r), with I the reduced inertia about the
+// contact point.
+inline void add_rolling_damping(double ratio, double inertia, double stiffness,
+                                const double relative_omega[3], double torque[3])
+{
+  const double damping = ratio*2.0*std::sqrt(inertia*stiffness);
+  for (int k = 0; k < 3; ++k) torque[k] -= damping*relative_omega[k];
+}
+
 }  // namespace jiang
 }  // namespace silokit
 

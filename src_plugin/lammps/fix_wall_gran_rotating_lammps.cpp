@@ -44,12 +44,7 @@ const double UNIT_TOLERANCE = 1e-6;
 /* ---------------------------------------------------------------------- */
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), normal_model(-1), kn(0.0), kt(0.0), gamman(0.0), gammat(0.0),
-    youngs(0.0), poisson(0.0), restitution(0.0), characteristic_velocity(0.0),
-    youngs_effective(0.0), absolute_damping(false), tangential_damping(true),
-    limit_force(false), mu(-1.0), rolling(false), stiffness_factor(0.0),
-    friction_factor(0.0), length_mode(LENGTH_FIXED), contact_length(0.0), rolling_damping(0.0),
-    normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
+    Fix(lmp, narg, arg), law(silokit_lammps::default_contact_law()), normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
     open_time(0.0), clock_time(0.0), clock_step(0), clock_dt(0.0), history(nullptr),
     reduced_step(-1)
 {
@@ -117,98 +112,13 @@ void FixWallGranRotating::parse(int narg, char **arg)
 
   int iarg = 3;
   while (iarg < narg) {
+    const int next = silokit_lammps::parse_contact_law_keyword(error, STYLE, narg, arg, iarg, law);
+    if (next != iarg) {
+      iarg = next;
+      continue;
+    }
     const std::string keyword = arg[iarg];
-    if (keyword == "normal") {
-      need(iarg, 1, "normal");
-      const std::string model = arg[iarg + 1];
-      if (model == "hooke/stiffness") {
-        need(iarg + 1, 4, "normal hooke/stiffness (kn kt gamman gammat)");
-        normal_model = NORMAL_HOOKE_STIFFNESS;
-        kn = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kn", arg[iarg + 2]);
-        kt = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kt", arg[iarg + 3]);
-        gamman = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gamman", arg[iarg + 4]);
-        gammat = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gammat", arg[iarg + 5]);
-        if (!(kn > 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kn must be > 0", STYLE);
-        if (!(kt >= 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kt must be >= 0", STYLE);
-        if (!(gamman >= 0.0))
-          error->all(FLERR, "{}: normal hooke/stiffness gamman must be >= 0", STYLE);
-        if (!(gammat >= 0.0))
-          error->all(FLERR, "{}: normal hooke/stiffness gammat must be >= 0", STYLE);
-      } else if (model == "hooke") {
-        need(iarg + 1, 4, "normal hooke (Y nu e v_char)");
-        normal_model = NORMAL_HOOKE;
-        youngs = silokit_lammps::parse_number(error, STYLE, "normal hooke Y", arg[iarg + 2]);
-        poisson = silokit_lammps::parse_number(error, STYLE, "normal hooke nu", arg[iarg + 3]);
-        restitution = silokit_lammps::parse_number(error, STYLE, "normal hooke e", arg[iarg + 4]);
-        characteristic_velocity = silokit_lammps::parse_number(error, STYLE, "normal hooke v_char", arg[iarg + 5]);
-        if (!(youngs > 0.0)) error->all(FLERR, "{}: normal hooke Y must be > 0", STYLE);
-        if (!(poisson > -1.0 && poisson <= 0.5))
-          error->all(FLERR, "{}: normal hooke nu must be in (-1, 0.5]", STYLE);
-        if (!(restitution > 0.0 && restitution <= 1.0))
-          error->all(FLERR, "{}: normal hooke e must be in (0, 1]", STYLE);
-        if (!(characteristic_velocity > 0.0))
-          error->all(FLERR, "{}: normal hooke v_char must be > 0", STYLE);
-        // grain and plate of the same material
-        youngs_effective =
-            silokit::contact::effective_youngs_modulus(youngs, poisson, youngs, poisson);
-      } else {
-        error->all(FLERR, "{}: unknown normal model '{}' (hooke/stiffness or hooke)", STYLE,
-                   model);
-      }
-      iarg += 6;
-    } else if (keyword == "friction") {
-      need(iarg, 1, "friction");
-      mu = silokit_lammps::parse_number(error, STYLE, "friction", arg[iarg + 1]);
-      if (!(mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
-      iarg += 2;
-    } else if (keyword == "rolling") {
-      need(iarg, 1, "rolling");
-      const std::string model = arg[iarg + 1];
-      if (model == "none") {
-        rolling = false;
-        iarg += 2;
-        continue;
-      }
-      if (model != "jiang")
-        error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
-      need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
-      rolling = true;
-      stiffness_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang a", arg[iarg + 2]);
-      friction_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang b", arg[iarg + 3]);
-      if (!(stiffness_factor > 0.0))
-        error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
-      if (!(friction_factor > 0.0))
-        error->all(FLERR, "{}: rolling jiang b (friction factor) must be > 0", STYLE);
-      if (std::strcmp(arg[iarg + 4], "lc") != 0)
-        error->all(FLERR, "{}: rolling jiang a b is followed by lc, got '{}'", STYLE,
-                   arg[iarg + 4]);
-      const std::string length = arg[iarg + 5];
-      if (length == "overlap")
-        length_mode = LENGTH_OVERLAP;
-      else if (length == "depth")
-        length_mode = LENGTH_DEPTH;
-      else {
-        length_mode = LENGTH_FIXED;
-        contact_length = silokit_lammps::parse_number(error, STYLE, "rolling jiang lc", arg[iarg + 5]);
-        if (!(contact_length >= 0.0))
-          error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
-                     "overlap or depth", STYLE);
-      }
-      iarg += 6;
-    } else if (keyword == "rolling_damping") {
-      need(iarg, 1, "rolling_damping");
-      rolling_damping = silokit_lammps::parse_number(error, STYLE, "rolling_damping", arg[iarg + 1]);
-      if (!(rolling_damping >= 0.0)) error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
-      iarg += 2;
-    } else if (keyword == "tangential_damping" || keyword == "absolute_damping" ||
-               keyword == "limit_force") {
-      need(iarg, 1, keyword);
-      const bool value = silokit_lammps::parse_yes_no(error, STYLE, keyword, arg[iarg + 1]);
-      if (keyword == "tangential_damping") tangential_damping = value;
-      else if (keyword == "absolute_damping") absolute_damping = value;
-      else limit_force = value;
-      iarg += 2;
-    } else if (keyword == "xplane" || keyword == "yplane" || keyword == "zplane") {
+    if (keyword == "xplane" || keyword == "yplane" || keyword == "zplane") {
       need(iarg, 1, keyword);
       if (normal >= 0) error->all(FLERR, "{}: {}: give one plane only", STYLE, keyword);
       normal = keyword[0] - 'x';
@@ -261,12 +171,7 @@ void FixWallGranRotating::parse(int narg, char **arg)
     }
   }
 
-  if (normal_model < 0) error->all(FLERR, "{}: normal is required (hooke/stiffness or hooke)", STYLE);
-  if (mu < 0.0) error->all(FLERR, "{}: friction is required", STYLE);
-  if (normal_model == NORMAL_HOOKE && absolute_damping)
-    error->all(FLERR, "{}: absolute_damping applies to normal hooke/stiffness only", STYLE);
-  if (rolling_damping > 0.0 && !rolling)
-    error->all(FLERR, "{}: rolling_damping needs rolling jiang", STYLE);
+  silokit_lammps::check_contact_law(error, STYLE, law);
   if (normal < 0) error->all(FLERR, "{}: the plate is required: xplane, yplane or zplane c", STYLE);
   if (have_omega && have_frequency)
     error->all(FLERR, "{}: give either omega or frequency, not both", STYLE);
@@ -389,7 +294,7 @@ void FixWallGranRotating::restart(char *buf)
 
 void FixWallGranRotating::post_force(int)
 {
-  namespace law = silokit::contact;
+  namespace contact_law = silokit::contact;
 
   double **x = atom->x;
   double **v = atom->v;
@@ -430,20 +335,22 @@ void FixWallGranRotating::post_force(int)
     double wall_velocity[3], delta[3];
     silokit::plate_velocity(contact.point, centre, axis, spin, wall_velocity);
     for (int k = 0; k < 3; ++k) delta[k] = -contact.to_plate[k];
-    const law::Kinematics kin =
-        law::wall_kinematics(delta, -gap, v[i], wall_velocity, omega_atom[i], radius[i]);
+    const contact_law::Kinematics kin =
+        contact_law::wall_kinematics(delta, -gap, v[i], wall_velocity, omega_atom[i], radius[i]);
 
     // a wall: the grain's own mass and radius
-    law::NormalSpring spring;
-    if (normal_model == NORMAL_HOOKE)
-      spring = law::hooke(youngs_effective, restitution, characteristic_velocity, rmass[i],
-                          radius[i], tangential_damping);
+    contact_law::NormalSpring spring;
+    if (law.normal_model == silokit_lammps::NORMAL_HOOKE)
+      spring = contact_law::hooke(law.youngs_effective, law.restitution,
+                                  law.characteristic_velocity, rmass[i], radius[i],
+                                  law.tangential_damping != 0.0);
     else
-      spring = law::hooke_stiffness(kn, kt, gamman, gammat, rmass[i], absolute_damping,
-                                    tangential_damping);
-    law::ContactForces c = law::contact_forces(kin, spring, mu, dt, limit_force, advance,
-                                               &history[i][HISTORY_SHEAR]);
-    if (rolling) {
+      spring = contact_law::hooke_stiffness(law.kn, law.kt, law.gamman, law.gammat, rmass[i],
+                                            law.absolute_damping != 0.0,
+                                            law.tangential_damping != 0.0);
+    contact_law::ContactForces c = contact_law::contact_forces(
+        kin, spring, law.mu, dt, law.limit_force != 0.0, advance, &history[i][HISTORY_SHEAR]);
+    if (law.rolling != 0.0) {
       double rolling[3];
       rolling_torque(i, kin.n, kin.overlap, spring.kn, plate_spin, advance, rolling);
       for (int k = 0; k < 3; ++k) c.torque_i[k] += rolling[k];
@@ -490,39 +397,35 @@ void FixWallGranRotating::rolling_torque(int i, const double *n, double overlap,
   jiang::remove_normal_component(relative_omega, n);
 
   double length;
-  if (length_mode == LENGTH_DEPTH)
+  if (law.length_mode == silokit_lammps::LENGTH_DEPTH)
     length = std::max(overlap, 0.0);
-  else if (length_mode == LENGTH_OVERLAP)
+  else if (law.length_mode == silokit_lammps::LENGTH_OVERLAP)
     length = jiang::wall_overlap_contact_length(radius, overlap);
   else {
-    length = contact_length;
+    length = law.contact_length;
     if (length > 2.0 * radius)
       error->one(FLERR, "{}: rolling jiang lc {} is larger than the diameter {} of a grain in "
                  "contact", STYLE, length, 2.0 * radius);
   }
   const jiang::RollingSpring spring =
-      jiang::rolling_spring(kn, overlap, mu, length, stiffness_factor, friction_factor);
+      jiang::rolling_spring(kn, overlap, law.mu, length, law.stiffness_factor,
+                            law.friction_factor);
 
   double *stored = &history[i][HISTORY_ROLLING];
   double angle[3] = {stored[0], stored[1], stored[2]};
-  if (advance) {
-    jiang::rotate_into_tangent_plane(angle, n);
-    jiang::adapt_to_stiffness(angle, history[i][HISTORY_STIFFNESS], spring.stiffness);
-    for (int d = 0; d < 3; ++d) angle[d] += relative_omega[d] * dt;
-  }
-  const bool rolls = jiang::spring_torque(angle, spring.stiffness, spring.torque_limit, torque);
+  const bool rolls = jiang::step_rolling_spring(angle, history[i][HISTORY_STIFFNESS], n,
+                                                relative_omega, spring, dt, advance, torque);
   if (advance) {
     for (int d = 0; d < 3; ++d) stored[d] = angle[d];
     history[i][HISTORY_STIFFNESS] = spring.stiffness;
   }
 
-  // viscous rolling damping on the elastic branch only; a wall: the
-  // grain's inertia about the contact point, disc 3/2 m r^2, sphere 7/5 m r^2
-  if (rolling_damping > 0.0 && !rolls) {
+  // a wall: the grain's inertia about the contact point, disc 3/2 m r^2,
+  // sphere 7/5 m r^2
+  if (law.rolling_damping > 0.0 && !rolls) {
     const double factor = domain->dimension == 2 ? 1.5 : 1.4;
-    const double inertia = factor * atom->rmass[i] * radius * radius;
-    const double damping = rolling_damping * 2.0 * std::sqrt(inertia * spring.stiffness);
-    for (int d = 0; d < 3; ++d) torque[d] -= damping * relative_omega[d];
+    jiang::add_rolling_damping(law.rolling_damping, factor * atom->rmass[i] * radius * radius,
+                               spring.stiffness, relative_omega, torque);
   }
 }
 

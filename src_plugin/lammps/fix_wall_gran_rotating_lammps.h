@@ -21,6 +21,8 @@
 
 #include "fix.h"
 
+#include "contact_law_keywords.h"
+
 namespace LAMMPS_NS {
 
 class FixWallGranRotating : public Fix {
@@ -52,24 +54,13 @@ class FixWallGranRotating : public Fix {
   double angular_velocity() const;     // 0 before `start`
   double hole_radius_now() const;      // 0 (closed) before `open`
 
-  enum { NORMAL_HOOKE_STIFFNESS = 0, NORMAL_HOOKE = 1 };
-  enum { LENGTH_FIXED = 0, LENGTH_OVERLAP = 1, LENGTH_DEPTH = 2 };
   // per-atom history: tangential spring (3), rolling angle (3), k_r of the
   // last step (1), as pair granular/jiang keeps it per pair
   enum { HISTORY_SHEAR = 0, HISTORY_ROLLING = 3, HISTORY_STIFFNESS = 6, HISTORY_SIZE = 7 };
 
  private:
-  // contact law (the pair_coeff keywords of pair granular/jiang)
-  int normal_model;
-  double kn, kt, gamman, gammat;
-  double youngs, poisson, restitution, characteristic_velocity, youngs_effective;
-  bool absolute_damping, tangential_damping, limit_force;
-  double mu;
-  bool rolling;                        // Jiang's rolling resistance
-  double stiffness_factor, friction_factor;   // Jiang's a, b
-  int length_mode;
-  double contact_length;               // l_c of LENGTH_FIXED
-  double rolling_damping;              // viscous rolling damping ratio (0: none)
+  // contact law: the pair_coeff keywords of pair granular/jiang
+  silokit_lammps::ContactLawSettings law;
 
   // the plate
   double centre[3];         // a point of the axis, in the plane of the plate

@@ -12,13 +12,13 @@
 #include "pair_granular_jiang.h"
 
 #include "contact_law.h"
+#include "contact_law_keywords.h"
 #include "rolling_law_jiang.h"
 
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "lammps_args.h"
 #include "fix.h"
 #include "fix_dummy.h"
 #include "fix_neigh_history.h"
@@ -36,6 +36,9 @@
 #include <string>
 
 using namespace LAMMPS_NS;
+using silokit_lammps::LENGTH_DEPTH;
+using silokit_lammps::LENGTH_OVERLAP;
+using silokit_lammps::NORMAL_HOOKE;
 
 namespace {
 
@@ -173,28 +176,21 @@ void PairGranularJiang::contact(int i, int j, const Coeff &c, double *history, b
 
   double *stored = &history[HISTORY_ROLLING];
   double angle[3] = {stored[0], stored[1], stored[2]};
-  if (advance) {
-    jiang::rotate_into_tangent_plane(angle, k.n);
-    jiang::adapt_to_stiffness(angle, history[HISTORY_STIFFNESS], rolling.stiffness);
-    for (int d = 0; d < 3; ++d) angle[d] += relative_omega[d] * dt;
-  }
   double torque[3];
-  const bool rolls = jiang::spring_torque(angle, rolling.stiffness, rolling.torque_limit, torque);
+  const bool rolls = jiang::step_rolling_spring(angle, history[HISTORY_STIFFNESS], k.n,
+                                                relative_omega, rolling, dt, advance, torque);
   if (advance) {
     for (int d = 0; d < 3; ++d) stored[d] = angle[d];
     history[HISTORY_STIFFNESS] = rolling.stiffness;
   }
 
-  // viscous rolling damping on the elastic branch only (as epsd3 and the
-  // LIGGGHTS model): reduced inertia about the contact point, disc 3/2 m r^2,
-  // sphere 7/5 m r^2
+  // reduced inertia about the contact point: disc 3/2 m r^2, sphere 7/5 m r^2
   if (c.rolling_damping > 0.0 && !rolls) {
     const double factor = domain->dimension == 2 ? 1.5 : 1.4;
     const double inertia_i = factor * mi * radi * radi;
     const double inertia_j = factor * mj * radj * radj;
-    const double inertia = inertia_i * inertia_j / (inertia_i + inertia_j);
-    const double damping = c.rolling_damping * 2.0 * std::sqrt(inertia * rolling.stiffness);
-    for (int d = 0; d < 3; ++d) torque[d] -= damping * relative_omega[d];
+    jiang::add_rolling_damping(c.rolling_damping, inertia_i * inertia_j / (inertia_i + inertia_j),
+                               rolling.stiffness, relative_omega, torque);
   }
 
   for (int d = 0; d < 3; ++d) {
@@ -322,134 +318,18 @@ void PairGranularJiang::coeff(int narg, char **arg)
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
 
-  // LIGGGHTS' defaults: tangential damping on, damping relative to meff,
-  // no force limit, no rolling resistance
-  Coeff c;
-  std::memset(&c, 0, sizeof(c));
-  c.normal_model = -1.0;
-  c.mu = -1.0;
-  c.tangential_damping = 1.0;
-  c.length_mode = LENGTH_FIXED;
-
-  // arg[iarg] is the keyword; checks that it has `count` values after it
-  auto need = [&](int iarg, int count, const std::string &what) {
-    if (iarg + count >= narg)
-      error->all(FLERR, "{}: {} needs {} value{}", STYLE, what, count, count > 1 ? "s" : "");
-  };
-
+  Coeff c = silokit_lammps::default_contact_law();
   int iarg = 2;
   while (iarg < narg) {
-    const std::string keyword = arg[iarg];
-    if (keyword == "normal") {
-      need(iarg, 1, "normal");
-      const std::string model = arg[iarg + 1];
-      if (model == "hooke/stiffness") {
-        need(iarg + 1, 4, "normal hooke/stiffness (kn kt gamman gammat)");
-        c.normal_model = NORMAL_HOOKE_STIFFNESS;
-        c.kn = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kn", arg[iarg + 2]);
-        c.kt = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness kt", arg[iarg + 3]);
-        c.gamman = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gamman", arg[iarg + 4]);
-        c.gammat = silokit_lammps::parse_number(error, STYLE, "normal hooke/stiffness gammat", arg[iarg + 5]);
-        if (!(c.kn > 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kn must be > 0", STYLE);
-        if (!(c.kt >= 0.0)) error->all(FLERR, "{}: normal hooke/stiffness kt must be >= 0", STYLE);
-        if (!(c.gamman >= 0.0))
-          error->all(FLERR, "{}: normal hooke/stiffness gamman must be >= 0", STYLE);
-        if (!(c.gammat >= 0.0))
-          error->all(FLERR, "{}: normal hooke/stiffness gammat must be >= 0", STYLE);
-        iarg += 6;
-      } else if (model == "hooke") {
-        need(iarg + 1, 4, "normal hooke (Y nu e v_char)");
-        c.normal_model = NORMAL_HOOKE;
-        c.youngs = silokit_lammps::parse_number(error, STYLE, "normal hooke Y", arg[iarg + 2]);
-        c.poisson = silokit_lammps::parse_number(error, STYLE, "normal hooke nu", arg[iarg + 3]);
-        c.restitution = silokit_lammps::parse_number(error, STYLE, "normal hooke e", arg[iarg + 4]);
-        c.characteristic_velocity = silokit_lammps::parse_number(error, STYLE, "normal hooke v_char", arg[iarg + 5]);
-        if (!(c.youngs > 0.0)) error->all(FLERR, "{}: normal hooke Y must be > 0", STYLE);
-        if (!(c.poisson > -1.0 && c.poisson <= 0.5))
-          error->all(FLERR, "{}: normal hooke nu must be in (-1, 0.5]", STYLE);
-        if (!(c.restitution > 0.0 && c.restitution <= 1.0))
-          error->all(FLERR, "{}: normal hooke e must be in (0, 1]", STYLE);
-        if (!(c.characteristic_velocity > 0.0))
-          error->all(FLERR, "{}: normal hooke v_char must be > 0", STYLE);
-        c.youngs_effective =
-            silokit::contact::effective_youngs_modulus(c.youngs, c.poisson, c.youngs, c.poisson);
-        iarg += 6;
-      } else {
-        error->all(FLERR, "{}: unknown normal model '{}' (hooke/stiffness or hooke)", STYLE,
-                   model);
-      }
-    } else if (keyword == "friction") {
-      need(iarg, 1, "friction");
-      c.mu = silokit_lammps::parse_number(error, STYLE, "friction", arg[iarg + 1]);
-      if (!(c.mu >= 0.0)) error->all(FLERR, "{}: friction must be >= 0", STYLE);
-      iarg += 2;
-    } else if (keyword == "rolling") {
-      need(iarg, 1, "rolling");
-      const std::string model = arg[iarg + 1];
-      if (model == "none") {
-        c.rolling = 0.0;
-        iarg += 2;
-        continue;
-      }
-      if (model != "jiang")
-        error->all(FLERR, "{}: unknown rolling model '{}' (jiang or none)", STYLE, model);
-      need(iarg + 1, 4, "rolling jiang (a b lc <length|overlap|depth>)");
-      c.rolling = 1.0;
-      c.stiffness_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang a", arg[iarg + 2]);
-      c.friction_factor = silokit_lammps::parse_number(error, STYLE, "rolling jiang b", arg[iarg + 3]);
-      if (!(c.stiffness_factor > 0.0))
-        error->all(FLERR, "{}: rolling jiang a (stiffness factor) must be > 0", STYLE);
-      if (!(c.friction_factor > 0.0))
-        error->all(FLERR, "{}: rolling jiang b (friction factor) must be > 0", STYLE);
-      if (std::strcmp(arg[iarg + 4], "lc") != 0)
-        error->all(FLERR, "{}: rolling jiang a b is followed by lc, got '{}'", STYLE,
-                   arg[iarg + 4]);
-      const std::string length = arg[iarg + 5];
-      if (length == "overlap")
-        c.length_mode = LENGTH_OVERLAP;
-      else if (length == "depth")
-        c.length_mode = LENGTH_DEPTH;
-      else {
-        c.length_mode = LENGTH_FIXED;
-        c.contact_length = silokit_lammps::parse_number(error, STYLE, "rolling jiang lc", arg[iarg + 5]);
-        if (!(c.contact_length >= 0.0))
-          error->all(FLERR, "{}: rolling jiang lc must be >= 0 (0: no rolling resistance), "
-                     "overlap or depth", STYLE);
-      }
-      iarg += 6;
-    } else if (keyword == "rolling_damping") {
-      need(iarg, 1, "rolling_damping");
-      c.rolling_damping = silokit_lammps::parse_number(error, STYLE, "rolling_damping", arg[iarg + 1]);
-      if (!(c.rolling_damping >= 0.0))
-        error->all(FLERR, "{}: rolling_damping must be >= 0", STYLE);
-      iarg += 2;
-    } else if (keyword == "tangential_damping") {
-      need(iarg, 1, "tangential_damping");
-      c.tangential_damping = silokit_lammps::parse_yes_no(error, STYLE, "tangential_damping", arg[iarg + 1]);
-      iarg += 2;
-    } else if (keyword == "absolute_damping") {
-      need(iarg, 1, "absolute_damping");
-      c.absolute_damping = silokit_lammps::parse_yes_no(error, STYLE, "absolute_damping", arg[iarg + 1]);
-      iarg += 2;
-    } else if (keyword == "limit_force") {
-      need(iarg, 1, "limit_force");
-      c.limit_force = silokit_lammps::parse_yes_no(error, STYLE, "limit_force", arg[iarg + 1]);
-      iarg += 2;
-    } else {
+    const int next = silokit_lammps::parse_contact_law_keyword(error, STYLE, narg, arg, iarg, c);
+    if (next == iarg)
       error->all(FLERR,
                  "{}: unknown keyword '{}' (normal, friction, rolling, rolling_damping, "
                  "tangential_damping, absolute_damping, limit_force)",
-                 STYLE, keyword);
-    }
+                 STYLE, arg[iarg]);
+    iarg = next;
   }
-
-  if (c.normal_model < 0.0)
-    error->all(FLERR, "{}: normal is required (hooke/stiffness or hooke)", STYLE);
-  if (c.mu < 0.0) error->all(FLERR, "{}: friction is required", STYLE);
-  if (c.rolling_damping > 0.0 && c.rolling == 0.0)
-    error->all(FLERR, "{}: rolling_damping needs rolling jiang", STYLE);
-  if (c.normal_model == NORMAL_HOOKE && c.absolute_damping != 0.0)
-    error->all(FLERR, "{}: absolute_damping applies to normal hooke/stiffness only", STYLE);
+  silokit_lammps::check_contact_law(error, STYLE, c);
 
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {

@@ -20,6 +20,8 @@
 
 #include "pair.h"
 
+#include "contact_law_keywords.h"
+
 #include <string>
 #include <vector>
 
@@ -27,23 +29,10 @@ namespace LAMMPS_NS {
 
 class PairGranularJiang : public Pair {
  public:
-  // the coefficients of one type pair (pair_coeff I J ...); plain data,
-  // written to restart files as it is
-  struct Coeff {
-    double normal_model;                 // NORMAL_HOOKE_STIFFNESS or NORMAL_HOOKE
-    double kn, kt, gamman, gammat;       // hooke/stiffness
-    double youngs, poisson, restitution, characteristic_velocity;   // hooke
-    double youngs_effective;             // hooke: Y* of the pair
-    double absolute_damping, tangential_damping, limit_force;      // 0 or 1
-    double mu;                           // Coulomb friction
-    double rolling;                      // 0: none, 1: jiang
-    double stiffness_factor, friction_factor;   // Jiang's a, b
-    double length_mode;                  // LENGTH_FIXED, LENGTH_OVERLAP, LENGTH_DEPTH
-    double contact_length;               // l_c of LENGTH_FIXED
-    double rolling_damping;              // viscous rolling damping ratio (0: none)
-  };
-  enum { NORMAL_HOOKE_STIFFNESS = 0, NORMAL_HOOKE = 1 };
-  enum { LENGTH_FIXED = 0, LENGTH_OVERLAP = 1, LENGTH_DEPTH = 2 };
+  // the coefficients of one type pair (pair_coeff I J ...): the contact-law
+  // keywords it shares with fix wall/gran/rotating; plain data, written to
+  // restart files as it is
+  using Coeff = silokit_lammps::ContactLawSettings;
   // per-pair history: tangential spring (3), rolling angle (3), k_r of the
   // last step (1)
   enum { HISTORY_SHEAR = 0, HISTORY_ROLLING = 3, HISTORY_STIFFNESS = 6, HISTORY_SIZE = 7 };

@@ -165,16 +165,10 @@ namespace ContactModels
       double rolling_angle[3] = { 0.0, 0.0, 0.0 };
       if (isContinuing(history, update_history))
         for (int k = 0; k < 3; ++k) rolling_angle[k] = history[k];
-      if (update_history) {
-        silokit::jiang::rotate_into_tangent_plane(rolling_angle, normal);
-        silokit::jiang::adapt_to_stiffness(rolling_angle, history[4], stiffness);
-        const double dt = update->dt;
-        for (int k = 0; k < 3; ++k) rolling_angle[k] += relative_omega[k]*dt;
-      }
-
       double torque[3];
-      const bool rolls = silokit::jiang::spring_torque(rolling_angle, stiffness, spring.torque_limit,
-                                                       torque);
+      const bool rolls = silokit::jiang::step_rolling_spring(
+          rolling_angle, history[4], normal, relative_omega, spring, update->dt, update_history,
+          torque);
 
       if (update_history) {
         for (int k = 0; k < 3; ++k) history[k] = rolling_angle[k];
@@ -182,13 +176,10 @@ namespace ContactModels
         history[4] = stiffness;
       }
 
-      // viscous rolling damping acts on the elastic branch only, as in epsd3:
-      // a rolling (saturated) contact already dissipates through the cap
-      if (rolling_damping && !rolls) {
-        const double damping = rolling_damping_ratio[itype][jtype]*2.0*
-                               std::sqrt(rollingInertia(sidata)*stiffness);
-        for (int k = 0; k < 3; ++k) torque[k] -= damping*relative_omega[k];
-      }
+      if (rolling_damping && !rolls)
+        silokit::jiang::add_rolling_damping(rolling_damping_ratio[itype][jtype],
+                                            rollingInertia(sidata), stiffness, relative_omega,
+                                            torque);
 
       for (int k = 0; k < 3; ++k) {
         i_forces.delta_torque[k] += torque[k];

@@ -13,6 +13,12 @@
 //                                         spring takes the new k_r)
 //   tangent <nx> <ny> <nz>             -> angle <ax> <ay> <az>   (rotate_into_tangent_plane)
 //   no_twist <wx> <wy> <wz> <nx> <ny> <nz> -> omega <wx> <wy> <wz> (remove_normal_component)
+//   step <new k_r> <nx> <ny> <nz> <wx> <wy> <wz> <dt> <advance 0|1>
+//                                      -> torque <tx> <ty> <tz> rolls <0|1> angle <ax> <ay> <az>
+//                                         (step_rolling_spring from the held angle and k_r; with
+//                                         advance the spring keeps the new angle and k_r)
+//   damp <ratio> <inertia> <wx> <wy> <wz> <tx> <ty> <tz>
+//                                      -> torque <tx> <ty> <tz>  (add_rolling_damping, spring's k_r)
 
 #include "rolling_law_jiang.h"
 
@@ -83,6 +89,29 @@ int main()
       in >> omega[0] >> omega[1] >> omega[2] >> normal[0] >> normal[1] >> normal[2];
       remove_normal_component(omega, normal);
       std::printf("omega %.17g %.17g %.17g", omega[0], omega[1], omega[2]);
+    } else if (command == "step") {
+      RollingSpring next = spring;
+      double normal[3], omega[3], dt;
+      int advance;
+      in >> next.stiffness >> normal[0] >> normal[1] >> normal[2] >> omega[0] >> omega[1]
+         >> omega[2] >> dt >> advance;
+      double stepped[3] = { angle[0], angle[1], angle[2] };
+      double torque[3];
+      const bool rolls = step_rolling_spring(stepped, spring.stiffness, normal, omega, next, dt,
+                                             advance != 0, torque);
+      std::printf("torque %.17g %.17g %.17g rolls %d", torque[0], torque[1], torque[2],
+                  rolls ? 1 : 0);
+      print_vector("angle", stepped);
+      if (advance) {
+        for (int k = 0; k < 3; ++k) angle[k] = stepped[k];
+        spring = next;
+      }
+    } else if (command == "damp") {
+      double ratio, inertia, omega[3], torque[3];
+      in >> ratio >> inertia >> omega[0] >> omega[1] >> omega[2] >> torque[0] >> torque[1]
+         >> torque[2];
+      add_rolling_damping(ratio, inertia, spring.stiffness, omega, torque);
+      std::printf("torque %.17g %.17g %.17g", torque[0], torque[1], torque[2]);
     } else {
       std::cerr << "rolling_law_jiang_driver: unknown command '" << command << "'\n";
       return 2;

@@ -8,23 +8,15 @@ geometry, for each contact-length mode (fixed l_c, the overlap's chord, the
 overlap's depth); tests/test_jiang_held_pair.py is the same check in
 LIGGGHTS."""
 
-import math
-
 import numpy as np
 import pytest
 
-from analysis.testing import read_frames
+from held_pair_eq1 import (DISTANCE, DT, FIXED_LENGTH, KN, MU, OMEGA, RADIUS, assert_follows_eq1,
+                           contact_length_of, eq1_torques, hooke_spring, measured_torque,
+                           steps_for)
 from lammps_host import has_mpirun, needs_lammps, run_lammps
 
 pytestmark = needs_lammps
-
-RADIUS = 0.005
-DISTANCE = 0.0099            # overlap 1e-4 m
-KN = 1.0e5
-MU = 0.5
-DT = 1.0e-5
-OMEGA = 10.0                 # rad/s, each grain; relative rotation 2 OMEGA
-FIXED_LENGTH = 1.0e-3
 
 
 def held_pair_deck(length, load_steps, unload_steps, extra=""):
@@ -57,67 +49,18 @@ run {unload_steps}
 """
 
 
-def contact_length_of(mode):
-    if mode == "fixed":
-        return FIXED_LENGTH
-    if mode == "depth":
-        return 2 * RADIUS - DISTANCE      # l_c = the overlap depth delta_n
-    # chord of two equal circles whose centres are DISTANCE apart
-    return 2 * math.sqrt(RADIUS ** 2 - (DISTANCE / 2) ** 2)
-
-
-def expected_torque(contact_length, load_steps, unload_steps):
-    """Torque on grain 1 (z) after each step 1..load+unload, from eq. 1."""
-    elastic_force = KN * (2 * RADIUS - DISTANCE)
-    stiffness = KN * contact_length ** 2
-    limit = MU * contact_length * elastic_force
-    angle = 0.0
-    torques = []
-    for step in range(1, load_steps + unload_steps + 1):
-        rate = 2 * OMEGA if step <= load_steps else -2 * OMEGA
-        angle += rate * DT
-        if abs(stiffness * angle) > limit:
-            angle = math.copysign(limit / stiffness, angle)
-        torques.append(-stiffness * angle)
-    return np.array(torques), limit, stiffness
-
-
-def measured_torque(path):
-    by_step = {}
-    for frame in read_frames(path):
-        by_step.setdefault(frame.step, frame)
-    steps = sorted(s for s in by_step if s >= 1)
-    tz1 = np.array([by_step[s].atom(1)["tqz"] for s in steps])
-    tz2 = np.array([by_step[s].atom(2)["tqz"] for s in steps])
-    txy = np.array([np.abs(by_step[s]["tqx"]).max() + np.abs(by_step[s]["tqy"]).max()
-                    for s in steps])
-    return tz1, tz2, txy
-
-
-def steps_for(mode):
-    _, limit, stiffness = expected_torque(contact_length_of(mode), 0, 0)
-    steps_to_cap = limit / (stiffness * 2 * OMEGA * DT)
-    return int(steps_to_cap * 1.6), int(steps_to_cap * 1.2)
+def load_and_unload_steps(mode):
+    return steps_for(*hooke_spring(contact_length_of(mode)))
 
 
 @pytest.mark.parametrize("mode", ["fixed", "overlap", "depth"])
 def test_torque_loads_saturates_and_unloads(tmp_path, mode):
     length = {"fixed": FIXED_LENGTH, "overlap": "overlap", "depth": "depth"}[mode]
-    load, unload = steps_for(mode)
+    load, unload = load_and_unload_steps(mode)
     run_lammps(held_pair_deck(length, load, unload), tmp_path)
-    expected, limit, _ = expected_torque(contact_length_of(mode), load, unload)
-    tz1, tz2, txy = measured_torque(tmp_path / "dump.torque")
-
-    assert len(tz1) == load + unload
-    # eq. 1 step by step, both branches and the reversal
-    np.testing.assert_allclose(tz1, expected, rtol=1e-6, atol=1e-9 * limit)
-    # action = reaction, and no torque about the other axes
-    np.testing.assert_allclose(tz2, -tz1, rtol=1e-12, atol=1e-15)
-    assert txy.max() < 1e-12 * limit
-    # the checks above cover all three regimes
-    assert np.isclose(tz1[load - 1], -limit, rtol=1e-6)
-    assert -limit < tz1[0] < 0
-    assert tz1[-1] > 0  # unloaded through zero, elastic the whole way
+    stiffness, limit = hooke_spring(contact_length_of(mode))
+    assert_follows_eq1(measured_torque(tmp_path / "dump.torque"),
+                       eq1_torques(stiffness, limit, load, unload), limit, load, unload)
 
 
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun is not installed")
@@ -125,7 +68,7 @@ def test_two_ranks_give_the_same_torques(tmp_path):
     """One grain on each rank (the pair is a ghost pair on both, newton off):
     the history travels with FixNeighHistory and the torques are those of
     one rank, to the last bit (one contact: nothing to sum in another order)."""
-    load, unload = steps_for("overlap")
+    load, unload = load_and_unload_steps("overlap")
     run_lammps(held_pair_deck("overlap", load, unload), tmp_path / "np1")
     run_lammps(held_pair_deck("overlap", load, unload, extra="processors 2 1 1"),
                tmp_path / "np2", nprocs=2)
@@ -142,7 +85,7 @@ def test_restart_mid_contact_continues_the_spring(tmp_path):
     FixNeighHistory's restart data, and the set-up force call does not
     advance it: the torques after the restart are those of the run that
     went on, to the last bit (the grains are held, so nothing else moves)."""
-    load, unload = steps_for("overlap")
+    load, unload = load_and_unload_steps("overlap")
     half = load // 2
     whole = held_pair_deck("overlap", load, unload)
     run_lammps(whole, tmp_path / "whole")

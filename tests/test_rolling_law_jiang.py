@@ -250,3 +250,36 @@ def test_the_angle_turns_with_the_contact_and_twist_is_ignored(driver):
     # stretched back to the length 0.05
     assert close(angle, [-0.05 * s, 0.0, 0.05 * s], scale=0.05)
     assert [float(v) for v in replies[3][1:]] == [1.0, 2.0, 0.0]
+
+
+# ---------------------------------------------------------------- one step, as the hosts call it
+
+def test_one_step_turns_adapts_then_adds_the_rotation(driver):
+    """step_rolling_spring, the step every host adapter takes: the stored
+    angle (0.03, 0, 0.02) turns into the plane normal to z (its length
+    kept), shrinks by old/new k_r = 2.5/5 (a stiffer contact keeps its
+    torque), then grows by omega dt = (0, 0.01, 0); the torque is -k_r
+    times that. Without `advance` (a run's set-up call) the held angle gives
+    the torque as it is and stays."""
+    replies = driver(spring_command(0.01, 0.05), "roll 0.03 0 0.02",
+                     "step 5.0 0 0 1 0 2 0 0.005 0",
+                     "step 5.0 0 0 1 0 2 0 0.005 1",
+                     "roll 0 0 0")
+    torque, rolls, angle = roll(replies[2])               # not advanced: the held angle, k_r 5
+    assert not rolls
+    assert close(angle, [0.03, 0.0, 0.02]) and close(torque, [-0.15, 0.0, -0.1])
+    expected = [math.hypot(0.03, 0.02) * 2.5 / 5.0, 0.01, 0.0]
+    torque, rolls, angle = roll(replies[3])
+    assert not rolls                                       # |torque| 0.10 < the cap 0.25
+    assert close(angle, expected, scale=0.01)
+    assert close(torque, [-5.0 * a for a in expected], scale=0.05)
+    assert close(roll(replies[4])[2], expected, scale=0.01)   # kept
+
+
+def test_damping_is_a_fraction_of_critical_against_the_rotation(driver):
+    """add_rolling_damping: torque -= ratio 2 sqrt(I k_r) omega."""
+    inertia, ratio = 3.0e-4, 0.5
+    replies = driver(spring_command(0.01, 0.05), f"damp {ratio} {inertia} 2 -1 0 0.1 0 0")
+    damping = ratio * 2.0 * math.sqrt(inertia * KN * 0.05 ** 2)
+    assert close([float(v) for v in replies[1][1:]],
+                 [0.1 - 2 * damping, damping, 0.0], scale=0.1)

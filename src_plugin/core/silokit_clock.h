@@ -1,6 +1,6 @@
 /* ----------------------------------------------------------------------
    silokit - granular discharge through orifices, styles for LIGGGHTS 3.8
-   GPL-2.0-or-later, like LIGGGHTS, into which it compiles.
+   and LAMMPS. GPL-2.0-or-later, like both hosts.
 
    The simulated time of a whole simulation, across restarts, for the
    silokit fixes that keep or compare times.
@@ -49,6 +49,51 @@ class RestartClock {
  private:
   double time_before_restart;  // time() written to the restart file read, 0 without one
   bool restored_before_run;    // restored, no run since: LIGGGHTS' time still reads step x dt
+};
+
+// LAMMPS 20220106 does not store the simulated time in restart files
+// either: after read_restart its time reads 0 at the restart's step
+// (doc/lammps_host.md, section 5.4). A LAMMPS fix that keeps times holds a
+// StepClock: the time base_time at step base_step, then dt per step. It
+// writes the three to its restart data and reads them back, so that a
+// continued run computes each time with the same operations as the
+// uninterrupted one; when dt changes between runs (the timestep command)
+// the clock goes on from the time reached with the old one.
+class StepClock {
+ public:
+  StepClock() : base_time(0.0), base_step(0), step_dt(0.0) {}
+
+  void start(double time, long long step, double dt)
+  {
+    base_time = time;
+    base_step = step;
+    step_dt = dt;
+  }
+
+  double time(long long step) const { return base_time + (step - base_step)*step_dt; }
+
+  // a run with time step dt is set up at `step`
+  void use_time_step(long long step, double dt)
+  {
+    if (dt != step_dt) start(time(step), step, dt);
+  }
+
+  // three values for restart data
+  void write(double *values) const
+  {
+    values[0] = base_time;
+    values[1] = static_cast<double>(base_step);
+    values[2] = step_dt;
+  }
+  void read(const double *values)
+  {
+    start(values[0], static_cast<long long>(values[1]), values[2]);
+  }
+
+ private:
+  double base_time;
+  long long base_step;
+  double step_dt;
 };
 
 }  // namespace silokit

@@ -10,6 +10,7 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "fix_reinject_lammps.h"
 #include "fix_wall_gran_rotating_lammps.h"
 #include "pair_granular_jiang.h"
 
@@ -25,6 +26,11 @@ Pair *granular_jiang_creator(LAMMPS *lmp)
 Fix *wall_gran_rotating_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixWallGranRotating(lmp, argc, argv);
+}
+
+Fix *reinject_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixReinject(lmp, argc, argv);
 }
 
 }    // namespace
@@ -48,5 +54,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "wall/gran/rotating";
   plugin.info = "silokit: flat plate with an orifice, turning about the silo axis";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &wall_gran_rotating_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "reinject";
+  plugin.info = "silokit: grains leaving through the outlet re-enter at the top, counted";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &reinject_creator;
   (*register_plugin)(&plugin, lmp);
 }

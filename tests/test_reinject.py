@@ -292,7 +292,10 @@ def refused(run, fix_line):
     return caught.value.message
 
 
-@pytest.mark.parametrize("fix_line, expected", [
+# (fix line, what the ERROR says); the keywords are parsed by
+# core/reinject_logic.h, and tests/test_lammps_reinject.py gives LAMMPS'
+# fix the same lines
+BAD_INPUT = [
     ("fix out all reinject region top seed 15485863", "'exit <axis> <coordinate>' is required"),
     ("fix out all reinject exit z 0.0 seed 15485863", "'region <region-ID>' is required"),
     ("fix out all reinject exit z 0.0 region top", "'seed <positive integer>' is required"),
@@ -312,7 +315,10 @@ def refused(run, fix_line):
     ("fix out all reinject exit z 0.0 region top seed 15485863 rate_window 0", "'rate_window' must be > 0"),
     ("fix out all reinject exit z 0.0 region top seed 15485863 maxattempt", "keyword 'maxattempt' needs a value"),
     ("fix out all reinject exit z 0.0 region top seed 15485863 colour red", "unknown keyword 'colour'"),
-])
+]
+
+
+@pytest.mark.parametrize("fix_line, expected", BAD_INPUT)
 def test_bad_input(run, fix_line, expected):
     assert expected in refused(run, fix_line)
 

@@ -197,6 +197,45 @@ def test_two_ranks_reinject_the_same_grains_at_the_same_spots(run, tmp_path):
     assert min(xs) < 0 < max(xs)
 
 
+@pytest.fixture(scope="module")
+def first_wave(tmp_path_factory, liggghts_binary):
+    """The rain's first wave (every grain leaves once) on one rank."""
+    from conftest import run_liggghts
+    workdir = tmp_path_factory.mktemp("first_wave")
+    run_liggghts(rain_deck(steps=2100), workdir)
+    return workdir, read_dump(workdir / "dump.all")
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
+@pytest.mark.parametrize("slabs", [2, 4])
+def test_vertical_slabs_keep_every_grain_and_reinject_as_one_rank(run, tmp_path, first_wave,
+                                                                  slabs):
+    """The box cut into 2 or 4 slabs along the vertical (`processors 1 1 N`
+    on N ranks). Every grain leaves from the bottom slab (z < 0.0375 with 4
+    slabs) and re-enters in the top slab or, with 4, also in the third
+    (z < 0.2125), two ranks above: LIGGGHTS' exchange passes atoms to
+    the neighbouring ranks only, so the fix sends those grains to their rank
+    itself (before, 169 of the 196 grains were left with 4 slabs, silently).
+    Every grain stays in every frame, and the record and the re-entries
+    (steps, grains, spots) are those of one rank."""
+    one_dir, one_frames = first_wave
+    run(rain_deck(steps=2100, processors=f"processors 1 1 {slabs}"), nprocs=slabs)
+    frames = read_dump(tmp_path / "dump.all")
+    assert len(frames) == len(one_frames)
+    assert all(len(columns["id"]) == N_GRAINS for _, columns in frames)
+    assert (tmp_path / "exits.txt").read_text() == (one_dir / "exits.txt").read_text()
+
+    one, many = reentries(one_frames), reentries(frames)
+    assert len(one) == N_GRAINS and len(many) == N_GRAINS
+    for (step1, grain1, c1, k1), (step2, grain2, c2, k2) in zip(one, many):
+        assert (step1, grain1) == (step2, grain2)
+        for axis in "xyz":
+            assert c1[axis][k1] == pytest.approx(c2[axis][k2], abs=1e-12)
+    if slabs == 4:
+        top_slab_floor = -0.05 + 3 * (0.3 + 0.05) / 4      # the box spans -0.05 < z < 0.3
+        assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
+
+
 def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rain):
     """A run restarted at step N, chosen so that grains found below the exit
     at the end of step N re-enter at step N + 1, whose first piece ran on

@@ -9,11 +9,13 @@
    the next step, and in its pre_exchange every rank gathers the leavers and
    the grains near the injection region, draws the same free spots with the
    same random sequence (leavers sorted by id), and moves the leavers it
-   owns. The exchange that follows hands each moved grain to its new rank.
-   So the result does not depend on the number of ranks. The keywords, the
-   gathering, the placement, the counts, the flow rate, the record and the
-   restart data are core/reinject_logic.h, shared with the LAMMPS fix; this
-   adapter hands it LIGGGHTS' arrays, random generator, region and errors.
+   owns. A moved grain whose new rank is more than one rank away is sent
+   straight there (Irregular): LIGGGHTS' exchange, which follows, passes
+   atoms to the neighbouring ranks only. So the result does not depend on
+   the number of ranks. The keywords, the gathering, the placement, the
+   counts, the flow rate, the record and the restart data are
+   core/reinject_logic.h, shared with the LAMMPS fix; this adapter hands it
+   LIGGGHTS' arrays, random generator, region and errors.
 ------------------------------------------------------------------------- */
 
 #include "fix_reinject.h"
@@ -23,6 +25,7 @@
 #include "domain.h"
 #include "error.h"
 #include "input.h"
+#include "irregular.h"
 #include "random_park.h"
 #include "region.h"
 #include "silokit_args.h"
@@ -186,9 +189,35 @@ void FixReinject::pre_exchange()
       " attempts: enlarge the region or raise 'maxattempt'";
     error->fix_error(FLERR, this, message.c_str());
   }
-  if (reentered > 0 && record)
+  if (reentered == 0) return;
+  send_to_owners();
+  if (record)
     silokit::reinject::write_record_line(record.get(), update->ntimestep, simulated_time(),
                                          state.counts);
+}
+
+/* ----------------------------------------------------------------------
+   LIGGGHTS' exchange, which follows, passes an atom to a neighbouring
+   rank only, and a rank in between drops it: a grain moved from the
+   outlet to the top of a silo cut into three or more slabs would be
+   lost (LIGGGHTS ignores lost atoms by default). When any atom is more
+   than one rank away from the rank of its sub-domain, Irregular sends
+   each atom outside its rank's sub-domain straight to that rank, with
+   its per-atom fix data (fix property/atom, contact history: the
+   contacthistory fixes, which LIGGGHTS calls first in pre_exchange, have
+   already copied it out of the neighbor list). Otherwise nothing
+   changes: the exchange moves them as before. All ranks take part.
+------------------------------------------------------------------------- */
+
+void FixReinject::send_to_owners()
+{
+  if (comm->nprocs == 1) return;
+  // Irregular works in fractional coordinates in a triclinic box, as the
+  // exchange does
+  if (domain->triclinic) domain->x2lamda(atom->nlocal);
+  Irregular irregular(lmp);
+  if (irregular.migrate_check()) irregular.migrate_atoms();
+  if (domain->triclinic) domain->lamda2x(atom->nlocal);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -65,6 +65,7 @@ class FixReinject : public Fix {
 
   double simulated_time() const;
   bool is_leaver(int i) const;
+  void send_to_owners();
   void open_record_file();
 };
 

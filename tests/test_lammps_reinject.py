@@ -313,10 +313,6 @@ BAD = BAD_INPUT + [
     ("fix out all reinject exit z", "keyword 'exit' needs two values"),
     ("fix out all reinject exit z 0.0 region top seed 15485863 file /nonexistent/dir/x.txt",
      "cannot open file '/nonexistent/dir/x.txt'"),
-    ("variable lift equal 0.01*time\n"
-     "region spin block -0.02 0.02 -0.02 0.02 0.2 0.28 units box move NULL NULL v_lift\n"
-     "fix out all reinject exit z 0.0 region spin seed 15485863",
-     "region 'spin' moves or changes shape; the region must be static"),
 ]
 
 

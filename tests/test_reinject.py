@@ -354,6 +354,16 @@ BAD_INPUT = [
     ("fix out all reinject exit z 0.0 region top seed 15485863 rate_window 0", "'rate_window' must be > 0"),
     ("fix out all reinject exit z 0.0 region top seed 15485863 maxattempt", "keyword 'maxattempt' needs a value"),
     ("fix out all reinject exit z 0.0 region top seed 15485863 colour red", "unknown keyword 'colour'"),
+    # both hosts keep a region's bounding box from its definition and draw
+    # the spots in it
+    ("variable lift equal 0.01*time\n"
+     "region spin block -0.02 0.02 -0.02 0.02 0.2 0.28 units box move NULL NULL v_lift\n"
+     "fix out all reinject exit z 0.0 region spin seed 15485863",
+     "region 'spin' moves or changes shape; the region must be static"),
+    ("variable size equal 0.015\n"
+     "region bulb sphere 0 0 0.25 v_size units box\n"
+     "fix out all reinject exit z 0.0 region bulb seed 15485863",
+     "region 'bulb' moves or changes shape; the region must be static"),
 ]
 
 

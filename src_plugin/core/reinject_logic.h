@@ -160,10 +160,16 @@ Box bounding_box(const Region &region)
   return box;
 }
 
-// The region's bounding box must lie above the exit plane: "" or the error's text.
+// The region must stay as it was defined and its bounding box lie above
+// the exit plane: "" or the error's text. Both hosts keep a region's
+// bounding box (where the spots are drawn) from its definition, so spots
+// drawn in it would miss a region that moves or changes shape.
+// (LAMMPS' dynamic_check() counts a variable shape, LIGGGHTS' does not.)
 template <class Region>
-std::string check_region(const Region &region, const Settings &settings)
+std::string check_region(Region &region, const Settings &settings)
 {
+  if (region.dynamic_check() || region.varshape)
+    return "region '" + settings.region_id + "' moves or changes shape; the region must be static";
   if (bounding_box(region).lo[settings.axis] <= settings.exit_coordinate)
     return "the region must lie above the exit plane";
   return "";

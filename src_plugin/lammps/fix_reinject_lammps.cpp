@@ -93,11 +93,6 @@ void FixReinject::init()
   region = domain->regions[iregion];
   if (!region->bboxflag)
     error->all(FLERR, "{}: the region must have a bounding box (e.g. block, cylinder)", STYLE);
-  // LAMMPS keeps the bounding box of a region where it was defined: spots
-  // drawn in it would miss a region that moves or changes shape
-  if (region->dynamic_check())
-    error->all(FLERR, "{}: region '{}' moves or changes shape; the region must be static",
-               STYLE, settings.region_id);
   const std::string problem = silokit::reinject::check_region(*region, settings);
   if (!problem.empty()) error->all(FLERR, "{}: {}", STYLE, problem);
 

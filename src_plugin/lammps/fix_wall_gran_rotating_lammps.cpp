@@ -45,7 +45,7 @@ const double UNIT_TOLERANCE = 1e-6;
 
 FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), law(silokit_lammps::default_contact_law()), normal(-1), hole_radius(0.0), omega(0.0), start_time(0.0),
-    open_time(0.0), clock_time(0.0), clock_step(0), clock_dt(0.0), history(nullptr),
+    open_time(0.0), history(nullptr),
     reduced_step(-1)
 {
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
@@ -56,9 +56,8 @@ FixWallGranRotating::FixWallGranRotating(LAMMPS *lmp, int narg, char **arg) :
   check_geometry();
 
   // the schedule starts at LAMMPS' time now (0 in a fresh run)
-  clock_time = update->atime + (update->ntimestep - update->atimestep) * update->dt;
-  clock_step = update->ntimestep;
-  clock_dt = update->dt;
+  clock.start(update->atime + (update->ntimestep - update->atimestep) * update->dt,
+              update->ntimestep, update->dt);
 
   vector_flag = 1;
   size_vector = 4;
@@ -232,11 +231,7 @@ void FixWallGranRotating::init()
 {
   // a new time step (the timestep command between runs): the clock goes
   // on from the time reached with the old one
-  if (update->dt != clock_dt) {
-    clock_time = schedule_time();
-    clock_step = update->ntimestep;
-    clock_dt = update->dt;
-  }
+  clock.use_time_step(update->ntimestep, update->dt);
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, "{} does not support run_style respa", STYLE);
 }
@@ -249,14 +244,14 @@ void FixWallGranRotating::setup(int vflag)
 /* ----------------------------------------------------------------------
    time: after read_restart LAMMPS 20220106 reads its time as 0 at the
    restart's step (measured: thermo `time`). The schedule keeps its own
-   clock, clock_time at clock_step and clock_dt per step since, and writes
-   all three to the restart file: a continued run then computes the same
-   time, with the same operations, as the uninterrupted one.
+   clock (silokit_clock.h), a time at a step and dt per step since, and
+   writes all three to the restart file: a continued run then computes the
+   same time, with the same operations, as the uninterrupted one.
 ------------------------------------------------------------------------- */
 
 double FixWallGranRotating::schedule_time() const
 {
-  return clock_time + (update->ntimestep - clock_step) * clock_dt;
+  return clock.time(update->ntimestep);
 }
 
 double FixWallGranRotating::angular_velocity() const
@@ -271,7 +266,8 @@ double FixWallGranRotating::hole_radius_now() const
 
 void FixWallGranRotating::write_restart(FILE *fp)
 {
-  const double state[3] = {clock_time, (double) clock_step, clock_dt};
+  double state[3];
+  clock.write(state);
   if (comm->me == 0) {
     const int size = sizeof(state);
     fwrite(&size, sizeof(int), 1, fp);
@@ -283,9 +279,7 @@ void FixWallGranRotating::restart(char *buf)
 {
   double state[3];
   std::memcpy(state, buf, sizeof(state));
-  clock_time = state[0];
-  clock_step = (bigint) state[1];
-  clock_dt = state[2];
+  clock.read(state);
 }
 
 /* ----------------------------------------------------------------------

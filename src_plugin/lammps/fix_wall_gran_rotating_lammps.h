@@ -22,6 +22,7 @@
 #include "fix.h"
 
 #include "contact_law_keywords.h"
+#include "silokit_clock.h"
 
 namespace LAMMPS_NS {
 
@@ -71,11 +72,9 @@ class FixWallGranRotating : public Fix {
   double start_time, open_time;
 
   // the schedule's clock, our own (LAMMPS 20220106 keeps no time in
-  // restart files): the time clock_time at step clock_step, then dt per
-  // step; rebased when dt changes between runs, written to restart files
-  double clock_time;
-  bigint clock_step;
-  double clock_dt;
+  // restart files): rebased when dt changes between runs, written to
+  // restart files
+  silokit::StepClock clock;
 
   double **history;         // per atom: HISTORY_SIZE values
 

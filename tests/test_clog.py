@@ -425,8 +425,9 @@ FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom
             "every 10 quiet_time 0.001 action stop")
 
 
-@pytest.mark.engine
-@pytest.mark.parametrize("old, new, message", [
+# (what FIX_LINE has, what replaces it, words of the ERROR); the LAMMPS fix
+# takes the same lines but the `contacts` one (tests/test_lammps_clog.py)
+BAD_INPUT = [
     ("action stop", "action stop bogus 1", "unknown keyword 'bogus'"),
     ("action stop", "action stop every", "keyword 'every' needs a value"),
     ("reinject reinject ", "", "'reinject <fix-ID>' is required"),
@@ -448,7 +449,11 @@ FIX_LINE = ("fix clog grains clog reinject reinject base base orifice 0.0 bottom
     ("action stop", "action stop directory /nonexistent/dir",
      "cannot write clogs.txt, arches.txt, feet.txt, contacts.txt in directory '/nonexistent/dir'"),
     ("action stop", "action stop contacts nothing", "'contacts' names no compute pair/gran/local"),
-])
+]
+
+
+@pytest.mark.engine
+@pytest.mark.parametrize("old, new, message", BAD_INPUT)
 def test_bad_input_is_a_clear_error(run, old, new, message):
     assert old in FIX_LINE
     deck = clog_deck().replace(FIX_LINE, FIX_LINE.replace(old, new, 1))

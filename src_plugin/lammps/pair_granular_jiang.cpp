@@ -147,6 +147,7 @@ void PairGranularJiang::contact(int i, int j, const Coeff &c, double *history, b
   }
   out.fn = f.fn;
   out.vn = k.vn;
+  out.overlap = k.overlap;
   out.rinv = k.rinv;
 
   if (c.rolling == 0.0) return;
@@ -499,6 +500,46 @@ double PairGranularJiang::single(int i, int j, int itype, int jtype, double rsq,
   svector[8] = vt[1];
   svector[9] = vt[2];
   return 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   the touching pairs of the neighbor list, evaluated as single() does:
+   on a copy of the history, so the trajectory does not change
+------------------------------------------------------------------------- */
+
+std::vector<silokit::ContactSample> PairGranularJiang::current_contacts()
+{
+  std::vector<silokit::ContactSample> samples;
+  if (!list || !fix_history) return samples;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  Result r;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    const double *allhistory = fix_history->firstvalue[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!silokit::contact::touching(x[i], x[j], radius[i], radius[j])) continue;
+      double stored[HISTORY_SIZE];
+      for (int m = 0; m < HISTORY_SIZE; m++) stored[m] = allhistory[HISTORY_SIZE * jj + m];
+      contact(i, j, coeffs[type[i] * stride + type[j]], stored, false, r);
+      silokit::ContactSample sample;
+      sample.id1 = static_cast<int>(tag[i]);
+      sample.id2 = static_cast<int>(tag[j]);
+      sample.overlap = r.overlap;
+      for (int d = 0; d < 3; ++d) {
+        sample.x1[d] = x[i][d];
+        sample.x2[d] = x[j][d];
+        sample.normal_force[d] = r.fn * r.n[d];
+        sample.tangential_force[d] = r.ft[d];
+      }
+      samples.push_back(sample);
+    }
+  }
+  return samples;
 }
 
 /* ---------------------------------------------------------------------- */

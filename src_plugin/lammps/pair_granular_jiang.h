@@ -21,6 +21,7 @@
 #include "pair.h"
 
 #include "contact_law_keywords.h"
+#include "contact_sample.h"
 
 #include <string>
 #include <vector>
@@ -52,6 +53,12 @@ class PairGranularJiang : public Pair {
   double atom2cut(int) override;
   double radii2cut(double, double) override;
 
+  // the contacts of this rank's neighbor list that touch now, with the
+  // forces of the current positions, velocities and stored history (read,
+  // not advanced): what fix clog records at a clog. Under `newton off` a
+  // pair with a ghost partner is listed by both ranks.
+  std::vector<silokit::ContactSample> current_contacts();
+
  protected:
   std::vector<Coeff> coeffs;     // (ntypes+1)^2, symmetric
   int freeze_group_bit;
@@ -68,6 +75,7 @@ class PairGranularJiang : public Pair {
     double fn;                   // normal force, > 0 repulsive
     double ft[3];                // tangential force on i
     double vn;                   // (v_i - v_j).n
+    double overlap;              // r_i + r_j - |x_i - x_j|
     double n[3];
     double rinv;
   };

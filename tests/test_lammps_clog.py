@@ -176,13 +176,15 @@ def test_moving_contacts_carry_the_forces_of_liggghts(tmp_path):
 
 
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
-def test_two_ranks_write_the_records_of_one(clogged, tmp_path):
+@pytest.mark.parametrize("newton", ["newton off", "newton on"])
+def test_two_ranks_write_the_records_of_one(clogged, tmp_path, newton):
     """The processor boundary x = 0 cuts the arch between members 2 and 3:
-    the contacts across it are listed by both ranks (newton off), the
-    grains by their owners; gathered, sorted and deduplicated, the records
-    are those of one rank, to the byte."""
+    the contacts across it are listed by both ranks (newton off) or by one
+    (newton on), the grains by their owners; gathered, sorted and
+    deduplicated, the records are those of one rank, to the byte."""
     one_dir, _ = clogged
-    output = run_lammps(lammps_deck(processors="processors 2 1 1"), tmp_path, nprocs=2).output
+    deck = lammps_deck(processors="processors 2 1 1").replace("newton off", newton)
+    output = run_lammps(deck, tmp_path, nprocs=2).output
     assert "steps run: 100" in output
     check_records(tmp_path)
     for name in RECORDS:
@@ -229,6 +231,25 @@ def test_a_run_split_by_a_restart_writes_the_records_of_the_whole_run(clogged, t
 BAD = [case for case in BAD_INPUT if "contacts" not in case[1]] + [
     ("action stop", "action stop contacts c1", "unknown keyword 'contacts'"),
 ]
+
+
+def test_an_arch_broken_on_the_restart_step_re_enters_after_the_restart(tmp_path):
+    """action break: the arch found at step 100 is to re-enter on step 101.
+    A run cut by write_restart on step 100 itself carries that request in
+    fix reinject's restart data; the restarted run moves the arch away
+    and its next check finds no arch, as the uninterrupted run: the
+    records of both are the same to the byte (with the request lost, the
+    arch would be found again at step 200, status 1)."""
+    fix_line = FIX_LINE.replace("action stop", "action break arches 5")
+    run_lammps(lammps_deck(fix_line=fix_line, steps=300), tmp_path / "whole")
+    run_lammps(lammps_deck(fix_line=fix_line, steps=100, tail="write_restart state.restart"),
+               tmp_path / "pieces")
+    run_lammps(lammps_deck(fix_line=fix_line, steps=200, restart_file="state.restart"),
+               tmp_path / "pieces")
+    assert list(read_table(tmp_path / "whole" / "clogs.txt")["status"]) == [1, -1, -1]
+    for name in RECORDS:
+        assert (tmp_path / "pieces" / name).read_text() == \
+               (tmp_path / "whole" / name).read_text(), name
 
 
 @pytest.mark.parametrize("old, new, message", BAD, ids=[f"bad{i}" for i in range(len(BAD))])

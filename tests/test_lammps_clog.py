@@ -210,6 +210,21 @@ def test_break_moves_the_arch_to_the_top_and_goes_on(tmp_path):
     assert rows[1000][2:4] == [1, 0]         # one arch, the flag down
 
 
+def test_a_time_out_is_recorded_and_stops_the_run(tmp_path):
+    """quiet_time 0.01 s cannot pass within max_time 0.002 s: the attempt
+    times out at step 200 (status 0, no arch, no contacts written), and
+    with action stop the run stops there."""
+    fix_line = FIX_LINE.replace("quiet_time 0.001", "quiet_time 0.01 max_time 0.002")
+    output = run_lammps(lammps_deck(fix_line=fix_line), tmp_path).output
+    assert ("fix clog clog: clog 1 at t = 0.002 s (step 200), avalanche 0 grains, no arch "
+            "(the flow did not stop within max_time)") in output
+    assert "steps run: 200" in output
+    clogs = read_table(tmp_path / "clogs.txt")
+    assert list(clogs["status"]) == [0] and list(clogs["eta"]) == [0]
+    for name in ("arches.txt", "feet.txt", "contacts.txt"):
+        assert len(read_table(tmp_path / name)["clog"]) == 0, name
+
+
 def test_a_run_split_by_a_restart_writes_the_records_of_the_whole_run(clogged, tmp_path):
     """Cut at step 50, before the clog: the restarted fix goes on with the
     attempt's start and the time of the whole run (LAMMPS' own time reads

@@ -8,6 +8,8 @@ check_records, independently of either fix. The same scene runs in
 LIGGGHTS with its fix clog, and both hosts must find the same arch.
 """
 
+import re
+
 import numpy as np
 import pytest
 
@@ -173,6 +175,26 @@ def test_moving_contacts_carry_the_forces_of_liggghts(tmp_path):
     clogs = [read_table(tmp_path / host / "clogs.txt") for host in ("lammps", "liggghts")]
     for column in ("step", "eta", "status"):
         np.testing.assert_array_equal(clogs[0][column], clogs[1][column], err_msg=column)
+
+
+def test_in_2d_the_vertical_axis_is_y(tmp_path):
+    """The same scene in `dimension 2`, the silo in the x-y plane: gravity
+    and fix reinject's exit along y, so the fix takes y as the vertical
+    (the records' z column) and z as the off-plane axis. The records are
+    those computed from the construction, as in 3D."""
+    deck = lammps_deck()
+    swaps = [("units si\n", "units si\ndimension 2\n"), ("boundary f f f", "boundary f f p"),
+             ("block -0.06 0.06 -0.01 0.01 -0.05 0.1", "block -0.06 0.06 -0.05 0.1 -0.01 0.01"),
+             ("block -0.04 0.04 -0.01 0.01 0.06 0.09", "block -0.04 0.04 0.06 0.09 -0.01 0.01"),
+             ("vector 0 0 -1", "vector 0 -1 0"), ("exit z -0.03", "exit y -0.03")]
+    for old, new in swaps:
+        assert old in deck, old
+        deck = deck.replace(old, new)
+    deck = re.sub(r"create_atoms 1 single (\S+) 0\.0 (\S+) units box",
+                  r"create_atoms 1 single \1 \2 0.0 units box", deck)
+    output = run_lammps(deck, tmp_path).output
+    assert "steps run: 100" in output
+    check_records(tmp_path)
 
 
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")

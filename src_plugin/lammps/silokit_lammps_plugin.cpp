@@ -10,6 +10,7 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "fix_insert_rain2d_lammps.h"
 #include "fix_reinject_lammps.h"
 #include "fix_wall_gran_rotating_lammps.h"
 #include "pair_granular_jiang.h"
@@ -31,6 +32,11 @@ Fix *wall_gran_rotating_creator(LAMMPS *lmp, int argc, char **argv)
 Fix *reinject_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixReinject(lmp, argc, argv);
+}
+
+Fix *insert_rain2d_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixInsertRain2d(lmp, argc, argv);
 }
 
 }    // namespace
@@ -59,5 +65,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "reinject";
   plugin.info = "silokit: grains leaving through the outlet re-enter at the top, counted";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &reinject_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "insert/rain2d";
+  plugin.info = "silokit: rain deposition of polydisperse discs in 2D, row by row";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &insert_rain2d_creator;
   (*register_plugin)(&plugin, lmp);
 }

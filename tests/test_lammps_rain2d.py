@@ -21,7 +21,7 @@ from analysis.testing import LiggghtsError, liggghts_binary, run_deck
 from lammps_host import has_mpirun, needs_lammps, run_lammps
 from test_rain2d import BAD_INPUT, D, DT, GOOD, LINE, PER_ROW, POLY, RHO, SEED
 from test_rain2d import SUBSTRATE, check_landing_loses_energy, check_release_schedule
-from test_rain2d import first_appearances, rain_deck as liggghts_rain_deck
+from test_rain2d import first_appearances, rain_deck as liggghts_rain_deck, tables_by_run
 
 pytestmark = needs_lammps
 
@@ -355,3 +355,26 @@ def test_no_atom_map_is_needed(tmp_path):
     expected = [grain for row in rows_by_hand(2) for grain in row]
     assert list(grains["id"].astype(int)) == [tag for tag, _, _ in expected]
     assert list(grains["radius"]) == [0.5 * diameter for _, _, diameter in expected]
+
+
+@pytest.mark.parametrize("new_step", [0, 1000000])
+def test_reset_timestep_between_runs_keeps_the_rain_going(falling_rows, tmp_path, new_step):
+    """2000 steps split in two runs at the step before a release (the
+    release is pending when the first run ends), with reset_timestep back
+    to 0 or forward to 10^6 in between: grains inserted, rows, stop reason,
+    grains present and growth are those of the whole run step for step
+    (counted from the start), as in LIGGGHTS (test_rain2d.py)."""
+    _, output, frames = falling_rows
+    whole = thermo_rows(output, THERMO_COLUMNS)
+    first = releases(first_appearances(frames))[2] - 1
+    deck = rain_deck(first, dump_every=100000,
+                     tail=f"reset_timestep {new_step}\nrun {2000 - first}")
+    pieces = tables_by_run(run_lammps(deck, tmp_path).output)
+    before, after = pieces[-2], pieces[-1]
+    assert min(after) == new_step and max(after) == new_step + 2000 - first
+    joined = dict(before)
+    joined.update({step - new_step + first: values for step, values in after.items()})
+    assert sorted(joined) == list(range(2001))
+    assert joined[2000][1] > whole[first][1]          # rows released after the split
+    for step in range(2001):
+        assert joined[step][1:] == whole[step][1:], step

@@ -119,10 +119,10 @@ def test_no_two_grains_ever_overlap(falling_rows):
         assert np.all(distance >= contact - 1e-12)
 
 
-def test_next_row_waits_until_the_last_one_has_fallen_a_largest_diameter(falling_rows):
+def check_release_schedule(frames):
     """Release at step s exactly when the previous row's highest grain was
-    d_max below the line at the end of step s-1 and not at step s-2."""
-    _, _, frames = falling_rows
+    d_max below the line at the end of step s-1 and not at step s-2, in
+    frames of every step."""
     by_step = dict(frames)
     born = first_appearances(frames)
     releases = sorted({step for step, _ in born.values()})
@@ -137,6 +137,11 @@ def test_next_row_waits_until_the_last_one_has_fallen_a_largest_diameter(falling
     # free fall from rest: d_max takes sqrt(2 d_max / g), ~483 steps
     period = math.sqrt(2 * D_MAX) / DT
     assert np.diff(releases) == pytest.approx(np.full(len(releases) - 1, period), abs=2)
+
+
+def test_next_row_waits_until_the_last_one_has_fallen_a_largest_diameter(falling_rows):
+    _, _, frames = falling_rows
+    check_release_schedule(frames)
 
 
 def test_grains_below_the_box_are_deleted(falling_rows):
@@ -232,22 +237,19 @@ def test_a_pile_at_the_line_stops_the_release(run):
     assert "the pile has reached the release line" in output
 
 
-def test_landing_on_the_substrate_loses_energy(tmp_path, run):
-    """One row dropped from y = 10 onto a substrate of touching 0.1 d discs
-    (in fix freeze). The grains are created after the pair style's neighbor
-    cutoff was sized: the fix must announce its largest radius (max_rad),
-    or contacts are found only after deep overlap and the grains bounce back
-    higher than they fell. With this damping (0.3 of critical for the mean
-    pair) the mechanical energy after the impact is well below half of
-    what it was."""
-    substrate = ("lattice sq 0.1 origin 0.5 0.5 0.0\n"
-                 "region band block -5.99 5.99 0.91 0.99 -0.05 0.05 units box\n"
-                 "create_atoms 2 region band\n"
-                 "set type 2 diameter 0.1 density 1.0\n"
-                 "group substrate type 2\n"
-                 "fix frozen substrate freeze")
-    run(rain_deck(2200, "max_rows 1", dump_every=20, substrate=substrate))
-    frames = read_dump(tmp_path / "dump.rain")
+# a substrate of touching 0.1 d discs with its top at y = 1, in fix freeze
+SUBSTRATE = ("lattice sq 0.1 origin 0.5 0.5 0.0\n"
+             "region band block -5.99 5.99 0.91 0.99 -0.05 0.05 units box\n"
+             "create_atoms 2 region band\n"
+             "set type 2 diameter 0.1 density 1.0\n"
+             "group substrate type 2\n"
+             "fix frozen substrate freeze")
+
+
+def check_landing_loses_energy(frames):
+    """Frames of one row (max_rows 1) dropped on SUBSTRATE: each grain's
+    mechanical energy (disc inertia m r^2 / 2, heights above the
+    substrate's top) ends well below half of what it was."""
     rain = frames[-1][1]["id"][frames[-1][1]["type"] == 1].astype(int)
     assert len(rain) == PER_ROW
     for grain in rain:
@@ -263,6 +265,18 @@ def test_landing_on_the_substrate_loses_energy(tmp_path, run):
         start = energy[0]
         assert start > 8.0 * 0.8          # m g (10 - 1) for m >= 0.82
         assert max(energy[-20:]) < 0.5 * start
+
+
+def test_landing_on_the_substrate_loses_energy(tmp_path, run):
+    """One row dropped from y = 10 onto a substrate of touching 0.1 d discs
+    (in fix freeze). The grains are created after the pair style's neighbor
+    cutoff was sized: the fix must announce its largest radius (max_rad),
+    or contacts are found only after deep overlap and the grains bounce back
+    higher than they fell. With this damping (0.3 of critical for the mean
+    pair) the mechanical energy after the impact is well below half of
+    what it was."""
+    run(rain_deck(2200, "max_rows 1", dump_every=20, substrate=SUBSTRATE))
+    check_landing_loses_energy(read_dump(tmp_path / "dump.rain"))
 
 
 @pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
@@ -403,7 +417,9 @@ def refused(run, options, **deck_options):
     return caught.value.message
 
 
-@pytest.mark.parametrize("options, expected", [
+# (options, words the ERROR must hold); test_lammps_rain2d.py reuses those
+# that are not about LIGGGHTS' seed rule
+BAD_INPUT = [
     (GOOD.replace(f"seed {SEED} ", ""), "'seed <prime > 10000>' is required"),
     (GOOD.replace(f"seed {SEED}", "seed 15485864"), "'seed' must be a prime number > 10000"),
     (GOOD.replace(f"seed {SEED}", "seed 7"), "'seed' must be a prime number > 10000"),
@@ -436,7 +452,10 @@ def refused(run, options, **deck_options):
     (GOOD + " max_rows -2", "'max_rows' must be >= 0"),
     (GOOD + " max_rows", "keyword 'max_rows' needs a value"),
     (GOOD + " colour red", "unknown keyword 'colour'"),
-])
+]
+
+
+@pytest.mark.parametrize("options, expected", BAD_INPUT)
 def test_bad_input(run, options, expected):
     assert expected in refused(run, options)
 

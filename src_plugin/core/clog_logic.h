@@ -18,7 +18,7 @@
 
 #include "arch_walk.h"
 #include "contact_sample.h"
-#include "reinject_logic.h"    // number_for, integer_for: the same error texts
+#include "fix_common.h"        // number_for, integer_for: the same error texts
 #include "silokit_mpi.h"
 #include "silokit_record.h"
 
@@ -67,8 +67,6 @@ struct Settings {
 inline std::string parse_settings(const std::vector<std::string> &words, bool with_contacts,
                                   Settings &settings)
 {
-  using reinject::integer_for;
-  using reinject::number_for;
   bool have_orifice = false, have_bottom = false, have_arches = false;
   std::string problem;
   for (std::size_t iarg = 0; iarg < words.size(); iarg += 2) {

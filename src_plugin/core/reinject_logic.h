@@ -17,6 +17,7 @@
 #ifndef SILOKIT_REINJECT_LOGIC_H
 #define SILOKIT_REINJECT_LOGIC_H
 
+#include "fix_common.h"
 #include "silokit_mpi.h"
 #include "silokit_record.h"
 
@@ -54,28 +55,6 @@ struct Settings {
   Settings() : axis(-1), exit_coordinate(0.0), seed(0), every(1), max_attempts(1000),
                rate_window(0.1) {}
 };
-
-// `text` as a finite number for `keyword`, or the error's text
-inline std::string number_for(const std::string &keyword, const std::string &text, double &value)
-{
-  char *end = nullptr;
-  value = strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !std::isfinite(value))
-    return "'" + keyword + "' expects a number, got '" + text + "'";
-  return "";
-}
-
-// `text` as an int for `keyword` (no fraction, within range), or the error's text
-inline std::string integer_for(const std::string &keyword, const std::string &text, int &value)
-{
-  double number = 0.0;
-  const std::string problem = number_for(keyword, text, number);
-  if (!problem.empty()) return problem;
-  if (number != std::floor(number) || std::fabs(number) > std::numeric_limits<int>::max())
-    return "'" + keyword + "' expects an integer, got '" + text + "'";
-  value = static_cast<int>(number);
-  return "";
-}
 
 // Reads the words after `fix ID group reinject` into `settings`. Returns
 // the text of the first error (naming the keyword and what it allows),
@@ -554,15 +533,6 @@ inline const double *read_restart_list(const double *list, bool with_pending, St
   }
   state.flow.restore(samples);
   return sample;
-}
-
-// A fix's global restart data as both hosts read it back: its size in
-// bytes, then the values (rank 0 writes it).
-inline void write_restart_data(FILE *file, const std::vector<double> &list)
-{
-  const int size = static_cast<int>(list.size()*sizeof(double));
-  fwrite(&size, sizeof(int), 1, file);
-  fwrite(list.data(), sizeof(double), list.size(), file);
 }
 
 }  // namespace reinject

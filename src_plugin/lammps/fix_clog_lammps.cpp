@@ -235,7 +235,7 @@ void FixClog::write_restart(FILE *fp)
   double clock_values[3];
   clock.write(clock_values);
   list.insert(list.end(), clock_values, clock_values + 3);
-  if (comm->me == 0) silokit::reinject::write_restart_data(fp, list);
+  if (comm->me == 0) silokit::write_restart_data(fp, list);
 }
 
 void FixClog::restart(char *buf)

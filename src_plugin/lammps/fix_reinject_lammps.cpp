@@ -241,7 +241,7 @@ void FixReinject::write_restart(FILE *fp)
   double clock_values[3];
   clock.write(clock_values);
   list.insert(list.end(), clock_values, clock_values + 3);
-  if (comm->me == 0) silokit::reinject::write_restart_data(fp, list);
+  if (comm->me == 0) silokit::write_restart_data(fp, list);
 }
 
 void FixReinject::restart(char *buf)

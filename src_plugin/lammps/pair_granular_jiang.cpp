@@ -376,15 +376,18 @@ void PairGranularJiang::init_style()
   freeze_group_bit = ifreeze < 0 ? 0 : modify->fix[ifreeze]->groupbit;
 
   // the largest radius per type, of moving and of frozen grains, for the
-  // cutoffs; grains that fix pour or deposit will insert count as moving
-  const int ipour = modify->find_fix_by_style("^pour");
-  const int idep = modify->find_fix_by_style("^deposit");
+  // cutoffs; grains that fix pour, deposit or insert/rain2d will insert
+  // count as moving
+  const char *const inserters[] = {"^pour", "^deposit", "^insert/rain2d"};
   for (int i = 1; i <= atom->ntypes; i++) {
     onerad_dynamic[i] = onerad_frozen[i] = 0.0;
-    int itype = i;
-    if (ipour >= 0) onerad_dynamic[i] = *((double *) modify->fix[ipour]->extract("radius", itype));
-    itype = i;
-    if (idep >= 0) onerad_dynamic[i] = *((double *) modify->fix[idep]->extract("radius", itype));
+    for (const char *inserter : inserters) {
+      const int ifix = modify->find_fix_by_style(inserter);
+      if (ifix < 0) continue;
+      int itype = i;    // extract() sets it to 0 (a scalar): call it once
+      const double announced = *((double *) modify->fix[ifix]->extract("radius", itype));
+      onerad_dynamic[i] = MAX(onerad_dynamic[i], announced);
+    }
   }
   double *radius = atom->radius;
   int *mask = atom->mask;

@@ -11,6 +11,7 @@
 #include "version.h"
 
 #include "fix_clog_lammps.h"
+#include "fix_insert_rain2d_lammps.h"
 #include "fix_reinject_lammps.h"
 #include "fix_wall_gran_rotating_lammps.h"
 #include "pair_granular_jiang.h"
@@ -37,6 +38,11 @@ Fix *reinject_creator(LAMMPS *lmp, int argc, char **argv)
 Fix *clog_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixClog(lmp, argc, argv);
+}
+
+Fix *insert_rain2d_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixInsertRain2d(lmp, argc, argv);
 }
 
 }    // namespace
@@ -70,5 +76,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "clog";
   plugin.info = "silokit: finds the clogging arch, records it, stops the run or breaks the arch";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &clog_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "insert/rain2d";
+  plugin.info = "silokit: rain deposition of polydisperse discs in 2D, row by row";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &insert_rain2d_creator;
   (*register_plugin)(&plugin, lmp);
 }

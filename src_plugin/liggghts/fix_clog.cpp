@@ -276,7 +276,7 @@ void FixClog::write_restart(FILE *fp)
 {
   std::vector<double> list = attempts.restart_list(restart_layout);
   list.push_back(simulated_time());
-  if (comm->me == 0) silokit::reinject::write_restart_data(fp, list);
+  if (comm->me == 0) silokit::write_restart_data(fp, list);
 }
 
 void FixClog::restart(char *buf)

@@ -249,7 +249,7 @@ void FixReinject::write_restart(FILE *fp)
   const silokit::reinject::RestartHead head = {
     random->state(), simulated_time(), static_cast<double>(next_reneighbor) };
   const std::vector<double> list = silokit::reinject::restart_list(restart_layout, state, head);
-  if (comm->me == 0) silokit::reinject::write_restart_data(fp, list);
+  if (comm->me == 0) silokit::write_restart_data(fp, list);
 }
 
 void FixReinject::restart(char *buf)

@@ -28,11 +28,18 @@ discharged a second time without the side wall's tangential dashpot
 (-var side_tangential_damping 0): the change of Q, paired by packing,
 bounds what the dashpot's convention can do to Q.
 
+A run that clogs has no stationary Q: no grain out at the end of its
+window, the deck's clog at rest, or no grain out for more than half of
+the window (IDLE_LIMIT: an arch that holds, breaks, holds again; flowing
+runs of the quick silo are idle 0-2 % of it). It is left out of its
+host's mean and of every pair it belongs to, and the report lists it.
+
 Writes bench/results/silo3d_cross_host.txt (every run) and the section
 `silo3d_cross_host` of doc/silo3d_rotating.md.
 
     /usr/bin/python3 bench/silo3d_cross_host.py            # 6 seeds, ~7 min serial
     /usr/bin/python3 bench/silo3d_cross_host.py --quick    # 2 seeds, 0.3 s of discharge, ~1.5 min
+    /usr/bin/python3 bench/silo3d_cross_host.py --reanalyse  # the last runs analysed again, no engine
 """
 
 import argparse
@@ -64,6 +71,7 @@ SECTION = "silo3d_cross_host"
 # template's 86028121 and 86028157
 SEEDS = (32452843, 15485863, 49979687, 67867967, 104395301, 122949829)
 CONFIDENCE = 0.95
+IDLE_LIMIT = 0.5   # more of the window than this without a grain out: clogged
 
 
 def deck(host, variables):
@@ -75,18 +83,43 @@ def deck(host, variables):
     return "\n".join(lines + [f"include {DECKS[host]}"]) + "\n"
 
 
+def stopped(flow):
+    """Whether a run's flow stopped: clogged at its end, or idle for more
+    than IDLE_LIMIT of the window."""
+    return bool(flow.clogged_at_end or flow.idle_share > IDLE_LIMIT)
+
+
+def scene_row(run_dir, name, host, seed, transient, cpu):
+    """The row of a run of a host's scene deck, from its records."""
+    run = load_run(run_dir)
+    flow = analyse_flow(run, transient=transient)
+    return announce({"name": name, "host": host, "seed": seed, "Q": flow.q_mass, "Q_se": flow.q_mass_se,
+                     "n_out": float(run.discharge["n_out"][-1]), "cpu": cpu, "clogged": stopped(flow)})
+
+
+def same_packing_row(run_dir, host, seed, transient, cpu):
+    """The row of a same-packing discharge, from its discharge.txt."""
+    record = read_discharge(run_dir)
+    flow = stationary_flow_rate(record["t"], record["n_out"], record["mass_out"],
+                                record["t"][0] + transient, record["t"][-1])
+    return announce({"name": f"same_packing_{host}_s{seed}", "host": host, "seed": seed, "Q": flow.q_mass,
+                     "Q_se": flow.q_mass_se, "n_out": float(record["n_out"][-1]), "cpu": cpu,
+                     "clogged": stopped(flow)})
+
+
+def announce(row):
+    benchlib.progress(f"{row['name']}: Q = {row['Q']:.4f} +- {row['Q_se']:.4f} kg/s, "
+                      f"{row['n_out']:.0f} out, {row['cpu']:.0f} s CPU"
+                      + (", clogged: left out of the means" if row["clogged"] else ""))
+    return row
+
+
 def run_one(work, name, host, variables, transient):
     """One run of a host's scene deck: its row, and its screen output."""
     run_dir = work / name
     result = benchlib.run_deck(deck(host, variables), run_dir,
                                binary=LMP if host == "lammps" else benchlib.OUR_BINARY)
-    flow = analyse_flow(load_run(run_dir), transient=transient)
-    row = {"name": name, "host": host, "seed": variables["seed"], "Q": flow.q_mass,
-           "Q_se": flow.q_mass_se, "n_out": float(load_run(run_dir).discharge["n_out"][-1]),
-           "cpu": result["cpu"]}
-    benchlib.progress(f"{name}: Q = {row['Q']:.4f} +- {row['Q_se']:.4f} kg/s, "
-                      f"{row['n_out']:.0f} out, {row['cpu']:.0f} s CPU")
-    return row, result["output"]
+    return scene_row(run_dir, name, host, variables["seed"], transient, result["cpu"]), result["output"]
 
 
 # Both hosts discharge one packing (a LAMMPS data file written at the
@@ -166,14 +199,7 @@ def run_same_packing(work, seed, lammps_output, args):
         run_dir.mkdir(parents=True, exist_ok=True)
         (run_dir / "packing.data").write_bytes((convert / "packing.data").read_bytes())
         result = benchlib.run_deck(text, run_dir, binary=LMP if host == "lammps" else benchlib.OUR_BINARY)
-        record = read_discharge(run_dir)
-        flow = stationary_flow_rate(record["t"], record["n_out"], record["mass_out"],
-                                    record["t"][0] + args.transient, record["t"][-1])
-        row = {"name": f"same_packing_{host}_s{seed}", "host": host, "seed": seed, "Q": flow.q_mass,
-               "Q_se": flow.q_mass_se, "n_out": float(record["n_out"][-1]), "cpu": result["cpu"]}
-        benchlib.progress(f"{row['name']}: Q = {row['Q']:.4f} +- {row['Q_se']:.4f} kg/s, "
-                          f"{row['n_out']:.0f} out, {row['cpu']:.0f} s CPU")
-        rows.append(row)
+        rows.append(same_packing_row(run_dir, host, seed, args.transient, result["cpu"]))
     return rows
 
 
@@ -194,6 +220,30 @@ def measure(work, args):
     return rows
 
 
+def reanalyse(work, args):
+    """The rows of the runs measure() left in work, analysed again (the
+    CPU seconds from the raw file of that measurement): for a change in
+    the analysis, without running the engines again."""
+    raw_path = benchlib.RESULTS / f"{SECTION}.txt"
+    if not raw_path.exists():
+        sys.exit(f"--reanalyse: {raw_path} is missing: run the bench first")
+    cpu = {}
+    for line in raw_path.read_text().splitlines():
+        words = line.split()
+        if line.startswith("#") or not words or words[0] == "name":
+            continue
+        cpu[words[0]] = float(words[6])
+    rows = []
+    for seed in args.seeds:
+        for name, host in ((f"liggghts_s{seed}", "liggghts"), (f"lammps_s{seed}", "lammps"),
+                           (f"lammps_no_side_dashpot_s{seed}", "lammps")):
+            rows.append(scene_row(work / name, name, host, seed, args.transient, cpu.get(name, math.nan)))
+        for host in ("lammps", "liggghts"):
+            rows.append(same_packing_row(work / f"same_packing_s{seed}" / host, host, seed, args.transient,
+                                         cpu.get(f"same_packing_{host}_s{seed}", math.nan)))
+    return rows
+
+
 def welch(a, b, level=CONFIDENCE):
     """mean(a) - mean(b) and the half width of its Welch t interval."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
@@ -203,21 +253,39 @@ def welch(a, b, level=CONFIDENCE):
 
 
 def summary(rows, args):
-    def q_of(prefix):
-        return [r["Q"] for r in rows if r["name"].startswith(prefix + "_s")]
+    """Each host's Q over the runs that flowed to their end: a run that
+    clogged (no grain out at the end of its window) has no stationary Q and
+    is left out, and so is its partner in every pairing by packing."""
+    def by_seed(prefix):
+        return {r["seed"]: r for r in rows if r["name"].startswith(prefix + "_s")}
 
-    liggghts, lammps, no_dashpot = q_of("liggghts"), q_of("lammps"), q_of("lammps_no_side_dashpot")
+    def flowing(prefix):
+        return [r["Q"] for r in by_seed(prefix).values() if not r["clogged"]]
+
+    def paired(a_prefix, b_prefix):
+        a, b = by_seed(a_prefix), by_seed(b_prefix)
+        seeds = [s for s in a if s in b and not a[s]["clogged"] and not b[s]["clogged"]]
+        return np.array([a[s]["Q"] for s in seeds]), np.array([b[s]["Q"] for s in seeds])
+
     hosts = []
-    for label, values in (("LIGGGHTS", liggghts), ("LAMMPS", lammps),
-                          ("LAMMPS, no tangential dashpot at the side wall", no_dashpot)):
+    for label, prefix in (("LIGGGHTS", "liggghts"), ("LAMMPS", "lammps"),
+                          ("LAMMPS, no tangential dashpot at the side wall", "lammps_no_side_dashpot")):
+        values = flowing(prefix)
         mean, half = mean_t_ci(values)
         hosts.append((label, mean, half, np.std(values, ddof=1), values))
-    difference, difference_ci = welch(lammps, liggghts)
-    paired, paired_ci = mean_t_ci(np.array(no_dashpot) - np.array(lammps))
-    same = np.array(q_of("same_packing_lammps")) - np.array(q_of("same_packing_liggghts"))
-    same_relative = same / np.array(q_of("same_packing_liggghts"))
-    return hosts, (difference, difference_ci), (paired, paired_ci), \
+    difference, difference_ci = welch(hosts[1][4], hosts[0][4])
+    no_dashpot, with_dashpot = paired("lammps_no_side_dashpot", "lammps")
+    dashpot, dashpot_ci = mean_t_ci(no_dashpot - with_dashpot)
+    same_lammps, same_liggghts = paired("same_packing_lammps", "same_packing_liggghts")
+    same = same_lammps - same_liggghts
+    same_relative = same / same_liggghts
+    return hosts, (difference, difference_ci), (dashpot, dashpot_ci), \
         (*mean_t_ci(same), *mean_t_ci(same_relative), same_relative)
+
+
+def clogged_runs(rows):
+    """'name (n out)' of every run left out as clogged."""
+    return [f"{r['name']} ({r['n_out']:.0f} out)" for r in rows if r["clogged"]]
 
 
 def report(rows, args):
@@ -248,6 +316,7 @@ each run its own packing.
 - Without the side wall's tangential dashpot (the term whose cap differs
   between LAMMPS' wall/gran and ours), paired by packing: Q changes by
   {paired:+.4f} ± {paired_ci:.4f} kg/s (95 %).
+- Clogged, left out of the means and of their pairs: {', '.join(clogged_runs(rows)) or 'none'}.
 - CPU, all runs: LIGGGHTS {cpu['liggghts']:.0f} s, LAMMPS {cpu['lammps']:.0f} s
   (LAMMPS also writes the packings and discharges each twice more).
 
@@ -258,10 +327,10 @@ each run its own packing.
 
 def raw(rows):
     lines = ["# every run of bench/silo3d_cross_host.py: Q over the window (kg/s), its block "
-             "standard error, grains out at the end, process CPU seconds",
-             "name host seed Q Q_se n_out cpu"]
+             "standard error, grains out at the end, process CPU seconds, clogged at the end (1: left out)",
+             "name host seed Q Q_se n_out cpu clogged"]
     lines += [f"{r['name']} {r['host']} {r['seed']} {r['Q']:.6g} {r['Q_se']:.3g} {r['n_out']:.0f} "
-              f"{r['cpu']:.1f}" for r in rows]
+              f"{r['cpu']:.1f} {int(r['clogged'])}" for r in rows]
     return "\n".join(lines) + "\n"
 
 
@@ -273,6 +342,8 @@ def main():
     parser.add_argument("--f", type=float, default=0.0, help="bottom frequency (Hz)")
     parser.add_argument("--discharge", type=float, default=0.6, help="discharge per run (s)")
     parser.add_argument("--transient", type=float, default=0.1, help="left out after the opening (s)")
+    parser.add_argument("--reanalyse", action="store_true",
+                        help="no engine runs: analyse the runs of the last measurement again (its work/ folder)")
     args = parser.parse_args()
     if args.quick:
         benchlib.use_smoke_outputs()
@@ -281,7 +352,7 @@ def main():
         if not path.exists():
             sys.exit(f"{path} is missing: build it (tools/build.sh)")
     work = benchlib.WORK / ("quick" if args.quick else "") / "silo3d_cross_host"
-    rows = measure(work, args)
+    rows = reanalyse(work, args) if args.reanalyse else measure(work, args)
     text = report(rows, args)
     raw_path = benchlib.write_raw(SECTION, raw(rows))
     page = benchlib.WORK / "quick" / "silo3d_cross_host.md" if args.quick else PAGE

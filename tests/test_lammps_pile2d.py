@@ -21,7 +21,8 @@ in.discharge.lammps, doc/pile2d.md "LAMMPS"), in their quick variant
   frames to the bit while the rows fall and land one by one, then round-off
   from the other order of the force sums that grows by about ten every
   350 steps (chaos): within 1e-9 d up to step 4984, a different pile in
-  the end, whose grain count and h0 lie within the spread between seeds;
+  the end, whose grain count and h0 lie within the spread between seeds,
+  and which LIGGGHTS on 2 ranks builds too (the same piles.txt line);
 - the discharge reads the built pile (a LAMMPS restart file), opens the
   orifice and writes its record, a jam at 1 d (the same record as
   LIGGGHTS') and a collapse at 8 d;
@@ -206,6 +207,13 @@ def test_two_ranks_rain_the_same_grains(quick_pile, tmp_path):
     assert parallel["h0"] == pytest.approx(surface_height(columns), abs=1e-9)
     assert abs(parallel["h0"] - serial["h0"]) < 3 * np.sqrt(2) * H0_SD
     assert abs(parallel["n_pile"] - serial["n_pile"]) < 3 * np.sqrt(2) * N_PILE_SD
+    # and LIGGGHTS on 2 ranks, which cuts the box in the same place, builds
+    # this same pile (measured: to the bit)
+    run_deck(DECKS / "in.build", tmp_path / "liggghts", nprocs=2, binary=liggghts_binary(),
+             timeout=900, variables={"quick": 1, "model": "fixed", "seed": SEED, "inputs": INPUTS,
+                                     "pile": "pile.restart", "piles": "piles.txt"})
+    assert ((tmp_path / "liggghts" / "piles.txt").read_text()
+            == (tmp_path / "piles.txt").read_text())
 
 
 def test_discharge_jams_at_one_diameter_as_in_liggghts(quick_pile, tmp_path):

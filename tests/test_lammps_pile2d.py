@@ -154,16 +154,21 @@ def test_quick_build_reaches_equilibrium_and_records_it(quick_pile):
     check_equilibrium(columns)
 
 
-@pytest.mark.parametrize("model", ["fixed", "none", "overlap", "depth"])
-def test_quick_pile_is_liggghts_pile(model, quick_pile, tmp_path):
+@pytest.mark.parametrize("model, variables", [
+    ("fixed", {}), ("none", {}), ("overlap", {}), ("depth", {}),
+    # the paper's model none as written (rolling none everywhere), and
+    # another l_c without rolling damping
+    ("none", {"substrate_lc": 0}), ("fixed", {"l_c": 0.1, "rolling_damping": 0}),
+])
+def test_quick_pile_is_liggghts_pile(model, variables, quick_pile, tmp_path):
     """The same seed in both hosts: the same piles.txt, text for text, and
     the same pile to the bit (the module's docstring says why 0)."""
-    if model == "fixed":
+    if model == "fixed" and not variables:
         lammps_dir = quick_pile[0]
     else:
         lammps_dir = tmp_path / "lammps"
-        lammps_build(lammps_dir, model=model)
-    liggghts_build(tmp_path / "liggghts", model=model)
+        lammps_build(lammps_dir, model=model, **variables)
+    liggghts_build(tmp_path / "liggghts", model=model, **variables)
     lammps_text = (lammps_dir / "piles.txt").read_text()
     liggghts_text = (tmp_path / "liggghts" / "piles.txt").read_text()
     assert lammps_text == liggghts_text
@@ -262,6 +267,8 @@ def test_discharge_collapses_at_eight_diameters(quick_pile, tmp_path):
     ("in.build.lammps", {"model": "rolling"}, "model is none, overlap, depth or fixed, not rolling"),
     ("in.build.lammps", {"L": 20.05}, "L = 20.05 must be a multiple of substrate_d"),
     ("in.build.lammps", {"fill": 1.0}, "fill = 1.0 must be in (0, 1)"),
+    ("in.build.lammps", {"rain_height": 4}, "rain_height = 4 must be at least 5 d"),
+    ("in.build.lammps", {"rolling_damping": -0.1}, "rolling_damping = -0.1 must be >= 0"),
     ("in.build.lammps", {"l_c": 0.6}, "l_c = 0.6 must be in (0, 0.5 d]"),
     ("in.build.lammps", {"substrate_lc": 0.2}, "substrate_lc = 0.2 must be in [0, 0.1 d]"),
     ("in.discharge.lammps", {"w": 0}, "w = 0 must be > 0"),

@@ -22,7 +22,8 @@ in.discharge.lammps, doc/pile2d.md "LAMMPS"), in their quick variant
   from the other order of the force sums that grows by about ten every
   350 steps (chaos): within 1e-9 d up to step 4984, a different pile in
   the end, whose grain count and h0 lie within the spread between seeds,
-  and which LIGGGHTS on 2 ranks builds too (the same piles.txt line);
+  and which LIGGGHTS on 2 ranks builds too (the same piles.txt line) and
+  discharges on 2 ranks as LAMMPS does (the same record);
 - the discharge reads the built pile (a LAMMPS restart file), opens the
   orifice and writes its record, a jam at 1 d (the same record as
   LIGGGHTS') and a collapse at 8 d;
@@ -219,6 +220,17 @@ def test_two_ranks_rain_the_same_grains(quick_pile, tmp_path):
                                      "pile": "pile.restart", "piles": "piles.txt"})
     assert ((tmp_path / "liggghts" / "piles.txt").read_text()
             == (tmp_path / "piles.txt").read_text())
+    # each host's 2-rank pile discharged on 2 ranks (w = 2.2 d): the same
+    # record (measured: h 5.59519105958579, 3 grains out)
+    variables = {"quick": 1, "model": "fixed", "seed": SEED, "inputs": INPUTS, "w": 2.2,
+                 "results": "discharges.txt"}
+    run_lammps(DECKS / "in.discharge.lammps", tmp_path / "w_lammps", nprocs=2, timeout=900,
+               variables={**variables, "pile": tmp_path / "pile.restart"})
+    run_deck(DECKS / "in.discharge", tmp_path / "w_liggghts", nprocs=2, binary=liggghts_binary(),
+             timeout=900, variables={**variables, "pile": tmp_path / "liggghts" / "pile.restart"})
+    lammps_record = (tmp_path / "w_lammps" / "discharges.txt").read_text()
+    assert lammps_record == (tmp_path / "w_liggghts" / "discharges.txt").read_text()
+    assert read_rows(tmp_path / "w_lammps" / "discharges.txt")[-1]["status"] == 1
 
 
 def test_discharge_jams_at_one_diameter_as_in_liggghts(quick_pile, tmp_path):

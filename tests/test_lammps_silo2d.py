@@ -133,8 +133,10 @@ def test_quick_deck_clogs_three_times(tmp_path):
 
 @pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
 def test_quick_deck_on_two_ranks(tmp_path):
-    """Two ranks: the same initial gas, a different flow (the force sums in
-    another order, then chaos); the records must hold together."""
+    """Two ranks: the same initial gas (checked by hand: the step-0 frame
+    has the grains of one rank's, the ids numbered per rank by
+    create_atoms), a different flow (the force sums in another order, then
+    chaos); the records must hold together."""
     output = lammps_quick(tmp_path, nprocs=2, narches=2).output
     assert "2 by 1 by 1 MPI processor grid" in output
     clogs, _, _ = check_records(tmp_path)

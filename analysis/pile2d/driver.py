@@ -15,6 +15,14 @@ binary or deck can build another pile from the same seed).
 Several tasks (one task = one pile and its discharges) run at once with
 -j; --mpi N runs each LIGGGHTS under mpirun -np N.
 
+--host lammps runs the same tasks in LAMMPS instead ($SILOKIT_LMP, default
+build/bin/lmp, with the decks' twins in.build.lammps and in.discharge.lammps
+and `-var plugin $SILOKIT_LAMMPS_PLUGIN` when that is set; doc/pile2d.md,
+"LAMMPS"): the same records, so the analysis reads either. A campaign holds
+one host's piles (each host reads only its own restart files): its host is
+written to OUT/host.txt on the first run and a later run with the other one
+is refused.
+
 Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
 discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.
 
@@ -40,6 +48,8 @@ ROOT = Path(__file__).resolve().parents[2]
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
 BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
+LAMMPS_BINARY = Path(os.environ.get("SILOKIT_LMP", ROOT / "build" / "bin" / "lmp"))
+HOSTS = ("liggghts", "lammps")
 MODELS = ("none", "overlap", "depth", "fixed")
 FIRST_SEED = 15485863
 PILES_HEADER = ("# model L seed n_pile h0 rows inserted t_rain t_end status dt_fraction "
@@ -123,6 +133,49 @@ def rebuilt_pile_problem(recorded_row, rebuilt_row):
     return ", ".join(changed) or None
 
 
+def deck_name(host, deck):
+    """The deck file of a step ("in.build", "in.discharge") in a host."""
+    return deck + ".lammps" if host == "lammps" else deck
+
+
+def engine_command(host, deck_path, variables, mpi=1, nice=0):
+    """The command line of one run of a deck in a host: LIGGGHTS
+    (module-level BINARY) or LAMMPS (LAMMPS_BINARY; the plugin from
+    $SILOKIT_LAMMPS_PLUGIN unless a variable names it)."""
+    variables = dict(variables)
+    if host == "lammps":
+        binary = LAMMPS_BINARY
+        plugin = os.environ.get("SILOKIT_LAMMPS_PLUGIN")
+        if plugin and "plugin" not in variables:
+            variables["plugin"] = plugin
+    else:
+        binary = BINARY
+    # stdbuf: LIGGGHTS' Error::one prints without a flush before
+    # MPI_Abort (doc/liggghts_quirks.md); line buffering keeps the message
+    command = ["stdbuf", "-oL", str(binary), "-in", str(deck_path), "-log", "none"]
+    for name, value in variables.items():
+        command += ["-var", name, str(value)]
+    if mpi > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(mpi)] + command
+    if nice:
+        command = ["nice", "-n", str(nice)] + command
+    return command
+
+
+def claim_host(out, host):
+    """Writes the campaign's host to OUT/host.txt, or raises ValueError
+    when the campaign was run with the other host (its restart files are
+    that host's, and its records would mix the two)."""
+    path = Path(out) / "host.txt"
+    if path.exists():
+        recorded = path.read_text().strip()
+        if recorded != host:
+            raise ValueError(f"{out} is a {recorded} campaign (host.txt): run --host {recorded} "
+                             f"there, or --host {host} in another --campaign")
+    else:
+        path.write_text(host + "\n")
+
+
 def ensure_header(path, header):
     path = Path(path)
     if not path.exists() or path.stat().st_size == 0:
@@ -153,17 +206,12 @@ class Runner:
             variables[name] = value
         return variables
 
-    def liggghts(self, deck, variables, log):
-        # stdbuf: LIGGGHTS' Error::one prints without a flush before
-        # MPI_Abort (doc/liggghts_quirks.md); line buffering keeps the message
-        command = ["stdbuf", "-oL", str(BINARY), "-in", str(INPUTS / "pile2d" / deck), "-log", "none"]
-        for name, value in variables.items():
-            command += ["-var", name, str(value)]
-        if self.args.mpi > 1:
-            command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
-                       str(self.args.mpi)] + command
-        if self.args.nice:
-            command = ["nice", "-n", str(self.args.nice)] + command
+    def engine(self, deck, variables, log):
+        """Runs step `deck` ("in.build", "in.discharge") in the campaign's
+        host (LIGGGHTS, or LAMMPS with --host lammps); seconds of wall time."""
+        deck = deck_name(self.args.host, deck)
+        command = engine_command(self.args.host, INPUTS / "pile2d" / deck, variables,
+                                 self.args.mpi, self.args.nice)
         started = time.time()
         with open(log, "w") as handle:
             result = subprocess.run(command, cwd=self.out, stdout=handle, stderr=subprocess.STDOUT)
@@ -190,7 +238,7 @@ class Runner:
         and its restart is kept out of later runs."""
         piles = self.out / "logs" / f"rebuild_{name}.txt"
         piles.unlink(missing_ok=True)
-        seconds = self.liggghts("in.build", {**variables, "pile": restart, "piles": piles},
+        seconds = self.engine("in.build", {**variables, "pile": restart, "piles": piles},
                                 self.out / "logs" / f"build_{name}.txt")
         rebuilt = read_rows(piles, text=True, missing_ok=True)
         problem = rebuilt_pile_problem(recorded_row, rebuilt[-1] if rebuilt else None)
@@ -217,12 +265,12 @@ class Runner:
             if recorded:
                 self.rebuild(name, variables, restart, recorded[-1])
             else:
-                seconds = self.liggghts("in.build", {**variables, "pile": restart,
+                seconds = self.engine("in.build", {**variables, "pile": restart,
                                                      "piles": self.piles_file},
                                         self.out / "logs" / f"build_{name}.txt")
                 self.progress(f"built {name} in {seconds:.1f} s")
         for w in missing:
-            seconds = self.liggghts("in.discharge", {**variables, "pile": restart, "w": w,
+            seconds = self.engine("in.discharge", {**variables, "pile": restart, "w": w,
                                                      "results": self.results_file},
                                     self.out / "logs" / f"discharge_{name}_w{w:g}.txt")
             self.progress(f"{name} w={w:g}: {last_result(self.results_file, model, length, w, seed)}"
@@ -232,6 +280,7 @@ class Runner:
         a = self.args
         (self.out / "piles").mkdir(parents=True, exist_ok=True)
         (self.out / "logs").mkdir(parents=True, exist_ok=True)
+        claim_host(self.out, a.host)
         ensure_header(self.piles_file, PILES_HEADER)
         ensure_header(self.results_file, DISCHARGES_HEADER)
         # the records do not carry every deck variable (--var): each
@@ -248,7 +297,7 @@ class Runner:
             missing = missing_widths(done, m, length, s, a.widths)
             self.total += len(missing) + needs_build(pile_key(m, length, s) in built,
                                                      self.restart_path(m, length, s).exists(), missing)
-        print(f"pile2d driver: {len(tasks)} piles x {len(a.widths)} widths, "
+        print(f"pile2d driver ({a.host}): {len(tasks)} piles x {len(a.widths)} widths, "
               f"{self.total} runs to do, -j {a.jobs}, results in {self.results_file}", flush=True)
         failures = []
         with ThreadPoolExecutor(max_workers=a.jobs) as pool:
@@ -297,8 +346,11 @@ def parse(argv):
     parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
                         help="any other deck variable, for both decks (repeatable)")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="tasks run at once")
-    parser.add_argument("--mpi", type=int, default=1, help="MPI ranks per LIGGGHTS run")
-    parser.add_argument("--nice", type=int, default=0, help="run LIGGGHTS under nice -n N")
+    parser.add_argument("--host", choices=HOSTS, default="liggghts",
+                        help="the engine: liggghts (default; $SILOKIT_LIGGGHTS) or lammps ($SILOKIT_LMP, "
+                             "the .lammps decks, the plugin from $SILOKIT_LAMMPS_PLUGIN if set)")
+    parser.add_argument("--mpi", type=int, default=1, help="MPI ranks per engine run")
+    parser.add_argument("--nice", type=int, default=0, help="run the engine under nice -n N")
     args = parser.parse_args(argv)
     for item in args.var:
         if "=" not in item:
@@ -312,7 +364,11 @@ def parse(argv):
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
-    failures = Runner(parse(argv), argv).run()
+    try:
+        failures = Runner(parse(argv), argv).run()
+    except ValueError as problem:
+        print(f"analysis.pile2d.driver: {problem}", file=sys.stderr)
+        return 2
     if failures:
         print(f"{len(failures)} task(s) failed", file=sys.stderr)
         return 1

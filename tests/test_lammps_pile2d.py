@@ -40,6 +40,7 @@ from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
 from analysis.testing import LiggghtsError, liggghts_binary, run_deck
 from lammps_host import ROOT, has_mpirun, needs_lammps, run_lammps
+from test_pile2d_deck import check_equilibrium, surface_height
 
 pytestmark = needs_lammps
 
@@ -48,7 +49,6 @@ DECKS = INPUTS / "pile2d"
 L = 20.0
 SUBSTRATE = 200                     # 10 L discs of diameter 0.1
 SEED = 15485863
-F_TOL, V_TOL = 1e-3, 1e-4
 FRAME_STEPS = 178                   # dump every 0.5 sqrt(d/g) (dt = t_c/25)
 # the spread between piles of model fixed at L = 20 d: standard deviations
 # over the 20 LIGGGHTS piles of doc/data/pile2d_discharges.txt (h0 5.33 d
@@ -81,29 +81,6 @@ def discharge(deck, workdir, pile_dir, w, model="fixed", binary=None):
     else:
         run_deck(DECKS / deck, workdir, binary=binary, variables=variables, timeout=900)
     return read_rows(Path(workdir) / "discharges.txt")[-1]
-
-
-def surface_height(columns):
-    """The deck's h, recomputed: the mean over x = 0, +-d/4, +-d/2 of the
-    top of the highest free grain crossing that vertical (0 if none)."""
-    free = columns["type"] == 1
-    x, y, r = columns["x"][free], columns["y"][free], columns["radius"][free]
-    tops = []
-    for line in (0.0, 0.25, -0.25, 0.5, -0.5):
-        crossing = np.abs(x - line) < r
-        top = (y[crossing] + np.sqrt(r[crossing] ** 2 - (x[crossing] - line) ** 2)).max() \
-            if crossing.any() else 0.0
-        tops.append(max(top, 0.0))
-    return float(np.mean(tops))
-
-
-def check_equilibrium(columns):
-    free = columns["type"] == 1
-    m, r = columns["mass"][free], columns["radius"][free]
-    force = np.hypot(columns["fx"][free], columns["fy"][free]) / m
-    moment = np.abs(columns["tqz"][free]) / (m * r)
-    speed = np.hypot(columns["vx"][free], columns["vy"][free]) + r * np.abs(columns["omegaz"][free])
-    assert force.max() < F_TOL and moment.max() < F_TOL and speed.max() < V_TOL
 
 
 def by_id(columns):

@@ -40,7 +40,7 @@ from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
 from analysis.testing import LiggghtsError, liggghts_binary, run_deck
 from lammps_host import ROOT, has_mpirun, needs_lammps, run_lammps
-from test_pile2d_deck import check_equilibrium, surface_height
+from test_pile2d_deck import check_equilibrium, check_substrate, surface_height
 
 pytestmark = needs_lammps
 
@@ -114,10 +114,7 @@ def test_quick_build_reaches_equilibrium_and_records_it(quick_pile):
     assert (record["dt_fraction"], record["damping"], record["rolling_damping"]) == (25, 0.3, 0.3)
     columns = read_dump(workdir / "pile.restart.dump")[-1][1]
     free = columns["type"] == 1
-    substrate = ~free
-    assert substrate.sum() == SUBSTRATE
-    np.testing.assert_allclose(np.sort(columns["x"][substrate]),
-                               -L / 2 + 0.05 + 0.1 * np.arange(SUBSTRATE), atol=1e-12)
+    substrate = check_substrate(columns)
     # discs: mass pi r^2 rho = d^2 / d_max^2 (set density/disc, insert/rain2d)
     d = 2 * columns["radius"]
     np.testing.assert_allclose(columns["mass"], (d / 1.05) ** 2, rtol=1e-12)

@@ -61,6 +61,16 @@ def surface_height(columns):
     return float(np.mean(tops))
 
 
+def check_substrate(columns):
+    """The quick pile's substrate: SUBSTRATE touching discs of diameter 0.1
+    centred on x = 0; returns its mask."""
+    substrate = columns["type"] != 1
+    assert substrate.sum() == SUBSTRATE
+    np.testing.assert_allclose(np.sort(columns["x"][substrate]),
+                               -L / 2 + 0.05 + 0.1 * np.arange(SUBSTRATE), atol=1e-12)
+    return substrate
+
+
 def check_equilibrium(columns):
     free = columns["type"] == 1
     m, r = columns["mass"][free], columns["radius"][free]
@@ -82,10 +92,7 @@ def test_quick_pile_builds_to_equilibrium(quick_pile):
     columns = read_dump(workdir / "pile.restart.dump")[-1][1]
     free = columns["type"] == 1
     # the substrate: 200 touching discs of diameter 0.1, top at y = 0
-    substrate = ~free
-    assert substrate.sum() == SUBSTRATE
-    np.testing.assert_allclose(np.sort(columns["x"][substrate]),
-                               -L / 2 + 0.05 + 0.1 * np.arange(SUBSTRATE), atol=1e-12)
+    substrate = check_substrate(columns)
     assert np.all(columns["radius"][substrate] == 0.05)
     # a pile of grains d (1 -+ 5 %), masses d^2 / 1.05^2, all above the substrate
     d = 2 * columns["radius"][free]

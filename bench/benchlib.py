@@ -229,9 +229,10 @@ def use_smoke_outputs():
 def write_section(name, markdown):
     """Replaces the section `name` of doc/accuracy_cost_rolling.md (between
     its BEGIN/END markers) with `markdown`, leaving the other sections as
-    they are; creates the file and missing sections in SECTION_ORDER."""
+    they are; creates the file and missing sections in SECTION_ORDER, and
+    appends a section of another name (stock_speed.py --section)."""
     text = REPORT.read_text() if REPORT.exists() else _REPORT_HEADER
-    for section in SECTION_ORDER:
+    for section in SECTION_ORDER + ([] if name in SECTION_ORDER else [name]):
         if f"<!-- BEGIN {section} -->" not in text:
             text = text.rstrip("\n") + (f"\n\n<!-- BEGIN {section} -->\n"
                                         f"(not measured yet: run `bench/{section}.py`)\n"

@@ -64,7 +64,6 @@ sys.path.insert(0, str(benchlib.ROOT))
 from analysis.campaign import silo2d_archive  # noqa: E402
 from analysis.common import hosts  # noqa: E402
 from analysis.common.stats import mean_t_ci  # noqa: E402
-from analysis.common.tables import read_table  # noqa: E402
 from analysis.silo2d import clogs as silo2d  # noqa: E402
 from analysis.silo2d import driver  # noqa: E402
 from analysis.silo2d import results  # noqa: E402
@@ -165,6 +164,16 @@ def bootstrap_difference(groups_a, groups_b, statistic, rng, resamples=RESAMPLES
 
 def pooled(groups, key):
     return np.concatenate([g[key] for g in groups]) if groups else np.zeros(0)
+
+
+def largest_cdf_gap(a, b):
+    """(value, F_a, F_b) where the two empirical distributions differ most:
+    where the KS distance sits."""
+    values = np.sort(np.concatenate([a, b]))
+    cdf_a = np.searchsorted(np.sort(a), values, side="right") / a.size
+    cdf_b = np.searchsorted(np.sort(b), values, side="right") / b.size
+    k = int(np.argmax(np.abs(cdf_a - cdf_b)))
+    return float(values[k]), float(cdf_a[k]), float(cdf_b[k])
 
 
 def ks_distance(sorted_values, first, n_first):
@@ -311,11 +320,19 @@ def compare(liggghts_dir, liggghts_scan, lammps_dir):
             texts.append(f"{row[column][0]:.1f} [{row[column + '_boot'][0]:.1f}, {row[column + '_boot'][1]:.1f}]")
         difference = bootstrap_difference(a["groups"], b["groups"], statistic, rng_difference)
         ks = ks_over_clogs(a["groups"], b["groups"], key, rng_test)
+        forces_a, forces_b = pooled(a["groups"], key), pooled(b["groups"], key)
+        where = largest_cdf_gap(forces_a, forces_b) if forces_a.size and forces_b.size else (np.nan,) * 3
         rows.append({"quantity": label + ", plain walk", "liggghts": texts[0], "lammps": texts[1],
                      "difference": difference, "digits": 1,
-                     "test": f"KS D = {ks[0]:.3f}: p = {ks[2]:.2g} (clogs permuted)", "p": ks[2]})
+                     "test": f"KS D = {ks[0]:.3f} (at {where[0]:.2g} m g): p = {ks[2]:.2g} (clogs permuted)",
+                     "p": ks[2]})
         raw.append(f"# {key}: KS D {ks[0]:.4g}, iid p {ks[1]:.4g}, clog-permutation p {ks[2]:.4g}; "
-                   f"values LIGGGHTS {pooled(a['groups'], key).size}, LAMMPS {pooled(b['groups'], key).size}")
+                   f"values LIGGGHTS {forces_a.size}, LAMMPS {forces_b.size}; largest gap at "
+                   f"{where[0]:.4g} m g: F LIGGGHTS {where[1]:.4f}, LAMMPS {where[2]:.4f}; fraction "
+                   + ", ".join(f"<= {t:g} m g: LIGGGHTS {np.mean(forces_a <= t):.4f}, "
+                               f"LAMMPS {np.mean(forces_b <= t):.4f}" for t in (0.1, 1.0, 10.0))
+                   + f"; medians {np.median(forces_a):.4g}, {np.median(forces_b):.4g}" if forces_a.size
+                   and forces_b.size else f"# {key}: an empty sample")
 
     ratio_difference = bootstrap_difference(a["groups"], b["groups"], silo2d.force_ratio, rng_difference)
     ratio_p = permutation_test(a["groups"], b["groups"], silo2d.force_ratio, rng_test)
@@ -426,7 +443,8 @@ CPU (user + system of the engine, one rank):
 {provenance()}
 - LAMMPS records made by: {engine_text(lammps_records)}
 """
-    raw_text = "\n".join([f"# {SECTION}: LAMMPS ({lammps_records}) against LIGGGHTS ({LIGGGHTS_RUN})",
+    raw_text = "\n".join([f"# {SECTION}: LAMMPS ({benchlib.shown_path(lammps_records)}) against LIGGGHTS "
+                           f"({benchlib.shown_path(LIGGGHTS_RUN)})",
                           f"# {benchlib.command_line()}"]
                          + [f"{row['quantity']} | LIGGGHTS {row['liggghts']} | LAMMPS {row['lammps']} | "
                             f"difference {'' if row['difference'] is None else interval_text(row['difference'], 3)}"

@@ -54,6 +54,7 @@ import benchlib  # noqa: E402
 
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common.tables import read_rows  # noqa: E402
+from analysis.common import hosts  # noqa: E402
 from analysis.pile2d import driver  # noqa: E402
 from analysis.pile2d.discharges import summarize  # noqa: E402
 
@@ -276,7 +277,7 @@ Today's LIGGGHTS binary on the piles it ran for the cost: {sum(c == 'identical' 
 of {len(checked)} lines identical to the recorded ensemble's.
 
 {benchlib.provenance()}
-- LAMMPS: {benchlib.binary_identity(driver.LAMMPS_BINARY)}; plugin
+- LAMMPS: {benchlib.binary_identity(hosts.LAMMPS_BINARY)}; plugin
   `{os.environ.get('SILOKIT_LAMMPS_PLUGIN', 'silokit_lammps.so (next to lmp)')}`
 """
     raw += summary_lines

@@ -10,6 +10,7 @@ import pytest
 
 from analysis.pile2d import discharges as pile2d
 from analysis.common.tables import read_rows
+from analysis.common import hosts
 from analysis.pile2d import driver as pile2d_driver
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -220,7 +221,7 @@ def test_driver_resumes_a_copied_record_without_rebuilding_its_finished_piles(tm
     (tmp_path / "discharges.txt").write_text(
         pile2d_driver.DISCHARGES_HEADER + "\n" +
         "".join(f"fixed 20.0 {w} {seed} 0 100 5.1 120 {w} 50 1 25 0.3 0.3\n" for w in (3.0, 4.0)))
-    monkeypatch.setattr(pile2d_driver, "BINARY", tmp_path / "no_such_liggghts")
+    monkeypatch.setattr(hosts, "LIGGGHTS_BINARY", tmp_path / "no_such_liggghts")
     args = pile2d_driver.parse(["--campaign", str(tmp_path), "--models", "fixed", "--L", "20",
                                 "--seeds", "1", "--widths", "3", "4"])
     runner = pile2d_driver.Runner(args)
@@ -267,7 +268,7 @@ def fake_record_without_restart(tmp_path, monkeypatch, n_pile):
     binary = tmp_path / "fake_liggghts"
     binary.write_text(FAKE_LIGGGHTS)
     binary.chmod(0o755)
-    monkeypatch.setattr(pile2d_driver, "BINARY", binary)
+    monkeypatch.setattr(hosts, "LIGGGHTS_BINARY", binary)
     monkeypatch.setenv("FAKE_N_PILE", str(n_pile))
     monkeypatch.setenv("FAKE_PILES_HEADER", pile2d_driver.PILES_HEADER)
     args = pile2d_driver.parse(["--campaign", str(tmp_path), "--models", "fixed", "--L", "20",

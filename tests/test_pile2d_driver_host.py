@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from analysis.common import hosts
 from analysis.pile2d import driver
 from lammps_host import PLUGIN, ROOT, needs_lammps
 
@@ -15,19 +16,19 @@ SEED = 15485863
 
 
 def test_lammps_command_takes_the_lammps_deck_binary_and_plugin(monkeypatch):
-    monkeypatch.setattr(driver, "LAMMPS_BINARY", Path("/x/lmp"))
-    monkeypatch.setattr(driver, "BINARY", Path("/x/liggghts"))
+    monkeypatch.setattr(hosts, "LAMMPS_BINARY", Path("/x/lmp"))
+    monkeypatch.setattr(hosts, "LIGGGHTS_BINARY", Path("/x/liggghts"))
     monkeypatch.setenv("SILOKIT_LAMMPS_PLUGIN", "/y/silokit_lammps.so")
-    deck = Path("/in") / driver.deck_name("lammps", "in.build")
-    command = driver.engine_command("lammps", deck, {"model": "fixed", "L": 50.0}, nice=15)
+    deck = Path("/in") / hosts.deck_name("lammps", "in.build")
+    command = hosts.engine_command("lammps", deck, {"model": "fixed", "L": 50.0}, nice=15)
     assert command == ["nice", "-n", "15", "stdbuf", "-oL", "/x/lmp", "-in", "/in/in.build.lammps",
                        "-log", "none", "-var", "model", "fixed", "-var", "L", "50.0",
                        "-var", "plugin", "/y/silokit_lammps.so"]
     # a plugin named by --var wins over the environment
-    command = driver.engine_command("lammps", deck, {"plugin": "/z.so"})
+    command = hosts.engine_command("lammps", deck, {"plugin": "/z.so"})
     assert command[-3:] == ["-var", "plugin", "/z.so"] and command.count("plugin") == 1
     # LIGGGHTS: its own binary and deck, no plugin variable, mpirun outside nice's command
-    command = driver.engine_command("liggghts", Path("/in") / driver.deck_name("liggghts", "in.discharge"),
+    command = hosts.engine_command("liggghts", Path("/in") / hosts.deck_name("liggghts", "in.discharge"),
                                     {"w": 4.2}, mpi=2)
     assert command == ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2", "stdbuf", "-oL",
                        "/x/liggghts", "-in", "/in/in.discharge", "-log", "none", "-var", "w", "4.2"]
@@ -35,7 +36,7 @@ def test_lammps_command_takes_the_lammps_deck_binary_and_plugin(monkeypatch):
 
 def test_lammps_without_plugin_variable_leaves_the_decks_default(monkeypatch):
     monkeypatch.delenv("SILOKIT_LAMMPS_PLUGIN", raising=False)
-    command = driver.engine_command("lammps", Path("in.build.lammps"), {"w": 1})
+    command = hosts.engine_command("lammps", Path("in.build.lammps"), {"w": 1})
     assert "plugin" not in command
 
 
@@ -48,11 +49,11 @@ def test_host_switch_parses_and_defaults_to_liggghts():
 
 
 def test_a_campaign_keeps_its_host(tmp_path):
-    driver.claim_host(tmp_path, "lammps")
-    driver.claim_host(tmp_path, "lammps")
+    hosts.claim_host(tmp_path, "lammps")
+    hosts.claim_host(tmp_path, "lammps")
     assert (tmp_path / "host.txt").read_text() == "lammps\n"
     with pytest.raises(ValueError, match="lammps campaign"):
-        driver.claim_host(tmp_path, "liggghts")
+        hosts.claim_host(tmp_path, "liggghts")
     # the CLI says so and runs nothing
     assert driver.main(["--campaign", str(tmp_path), "--L", "20", "--models", "none",
                         "--seed-list", str(SEED)]) == 2

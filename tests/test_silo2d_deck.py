@@ -71,10 +71,13 @@ def check_records(workdir):
     return clogs, arches, contacts
 
 
-@pytest.mark.engine
-def test_quick_deck_clogs_three_times(tmp_path):
-    output = run_quick_deck(tmp_path)
-    clogs, arches, contacts = check_records(tmp_path)
+def check_quick_run(workdir, output):
+    """A finished quick run of either host's deck (its records in workdir,
+    its screen output): the records hold together (check_records), at
+    least 3 arches, a constant atom count, the avalanches within the grains
+    counted out, silo.txt as the analysis needs it, and analysis.silo2d
+    runs on them. Returns the clogs table and the analysis' directory."""
+    clogs, _, _ = check_records(workdir)
     assert (clogs["status"] == 1).sum() >= 3
     assert "silo2d: done after" in output
     # the number of atoms never changes (thermo_modify lost error would stop the run)
@@ -82,19 +85,25 @@ def test_quick_deck_clogs_three_times(tmp_path):
              if line.split()[:1] and line.split()[0].isdigit() and len(line.split()) >= 9]
     assert atoms and set(atoms) == {N_TOTAL}
     # avalanche sizes add up to the grains counted out by fix reinject
-    out = read_table(tmp_path / "reinject.txt")
+    out = read_table(workdir / "reinject.txt")
     assert clogs["avalanche"].sum() <= out["n_out"][-1]
     # silo.txt carries what the analysis needs
-    silo = dict(line.split()[:2] for line in (tmp_path / "silo.txt").read_text().splitlines()
+    silo = dict(line.split()[:2] for line in (workdir / "silo.txt").read_text().splitlines()
                 if line and not line.startswith("#"))
     assert float(silo["d"]) == pytest.approx(D) and float(silo["mu"]) == 0.4
 
-    analysis = subprocess.run([sys.executable, "-m", "analysis.silo2d", str(tmp_path),
-                               "--bulk", "8", "14", "--out", str(tmp_path / "analysis")],
+    analysis = subprocess.run([sys.executable, "-m", "analysis.silo2d", str(workdir),
+                               "--bulk", "8", "14", "--out", str(workdir / "analysis")],
                               cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert analysis.returncode == 0, analysis.stderr
-    assert (tmp_path / "analysis" / "table1.md").exists()
-    assert len(list((tmp_path / "analysis").glob("*.png"))) == 7
+    assert (workdir / "analysis" / "table1.md").exists()
+    return clogs, workdir / "analysis"
+
+
+@pytest.mark.engine
+def test_quick_deck_clogs_three_times(tmp_path):
+    _, analysis = check_quick_run(tmp_path, run_quick_deck(tmp_path))
+    assert len(list(analysis.glob("*.png"))) == 7
 
 
 @pytest.mark.engine

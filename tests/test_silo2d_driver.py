@@ -35,18 +35,20 @@ def driver_environment(binary):
     return dict(os.environ, SILOKIT_LIGGGHTS=str(binary), PYTHONPATH=str(ROOT))
 
 
-def run_driver(out, binary, options=CAMPAIGN):
-    return subprocess.run(driver_command(out, options), cwd=ROOT, env=driver_environment(binary),
+def run_driver(out, binary, options=CAMPAIGN, environment=None):
+    """The driver's CLI; `environment` (default: LIGGGHTS `binary`'s) for another host."""
+    return subprocess.run(driver_command(out, options), cwd=ROOT,
+                          env=environment or driver_environment(binary),
                           capture_output=True, text=True, timeout=600)
 
 
-def cut_in_a_segment(out, binary):
-    """Starts the campaign and kills it (with its LIGGGHTS) as soon as a
+def cut_in_a_segment(out, environment, options=CAMPAIGN):
+    """Starts the campaign and kills it (with its engine) as soon as a
     segment after the first (one that starts from a restart file) has
     recorded a clog past the last complete segment. Returns (complete
     segments, clog rows at the cut)."""
     run = out / "mu0.4"
-    process = subprocess.Popen(driver_command(out), cwd=ROOT, env=driver_environment(binary),
+    process = subprocess.Popen(driver_command(out, options), cwd=ROOT, env=environment,
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                start_new_session=True)
     try:
@@ -69,17 +71,18 @@ def cut_in_a_segment(out, binary):
             process.wait()
 
 
-@pytest.mark.engine
-def test_a_cut_campaign_resumed_records_what_an_uncut_one_does(liggghts_binary, tmp_path):
-    uncut = run_driver(tmp_path / "uncut", liggghts_binary)
+def assert_cut_campaign_resumes_as_uncut(tmp_path, environment, options=CAMPAIGN):
+    """Runs the campaign uncut, then cut in a segment and resumed (both
+    through the CLI with `environment`), and compares their records."""
+    uncut = run_driver(tmp_path / "uncut", None, options, environment)
     assert uncut.returncode == 0, uncut.stdout + uncut.stderr
     assert "silo2d_driver: mu 0.4: 4 arches" in uncut.stdout or \
            "silo2d_driver: mu 0.4: 5 arches" in uncut.stdout, uncut.stdout
 
-    complete, clogs_at_cut = cut_in_a_segment(tmp_path / "cut", liggghts_binary)
+    complete, clogs_at_cut = cut_in_a_segment(tmp_path / "cut", environment, options)
     cut_run = tmp_path / "cut" / "mu0.4"
     assert not (cut_run / f"state{complete + 1}.restart").exists()
-    resumed = run_driver(tmp_path / "cut", liggghts_binary)
+    resumed = run_driver(tmp_path / "cut", None, options, environment)
     assert resumed.returncode == 0, resumed.stdout + resumed.stderr
 
     # the cut segment ran again and fix clog removed what it had written
@@ -102,6 +105,11 @@ def test_a_cut_campaign_resumed_records_what_an_uncut_one_does(liggghts_binary, 
     # only the last two restart files are kept
     assert sorted(p.name for p in uncut_run.glob("state*.restart")) == \
            [f"state{k}.restart" for k in (len(uncut_segments) - 1, len(uncut_segments))]
+
+
+@pytest.mark.engine
+def test_a_cut_campaign_resumed_records_what_an_uncut_one_does(liggghts_binary, tmp_path):
+    assert_cut_campaign_resumes_as_uncut(tmp_path, driver_environment(liggghts_binary))
 
 
 @pytest.mark.engine

@@ -40,6 +40,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from analysis.common import hosts
 from analysis.common.tables import read_rows
 from analysis.common.cli import command_line
 
@@ -47,9 +48,6 @@ ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
-BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
-LAMMPS_BINARY = Path(os.environ.get("SILOKIT_LMP", ROOT / "build" / "bin" / "lmp"))
-HOSTS = ("liggghts", "lammps")
 MODELS = ("none", "overlap", "depth", "fixed")
 FIRST_SEED = 15485863
 PILES_HEADER = ("# model L seed n_pile h0 rows inserted t_rain t_end status dt_fraction "
@@ -133,49 +131,6 @@ def rebuilt_pile_problem(recorded_row, rebuilt_row):
     return ", ".join(changed) or None
 
 
-def deck_name(host, deck):
-    """The deck file of a step ("in.build", "in.discharge") in a host."""
-    return deck + ".lammps" if host == "lammps" else deck
-
-
-def engine_command(host, deck_path, variables, mpi=1, nice=0):
-    """The command line of one run of a deck in a host: LIGGGHTS
-    (module-level BINARY) or LAMMPS (LAMMPS_BINARY; the plugin from
-    $SILOKIT_LAMMPS_PLUGIN unless a variable names it)."""
-    variables = dict(variables)
-    if host == "lammps":
-        binary = LAMMPS_BINARY
-        plugin = os.environ.get("SILOKIT_LAMMPS_PLUGIN")
-        if plugin and "plugin" not in variables:
-            variables["plugin"] = plugin
-    else:
-        binary = BINARY
-    # stdbuf: LIGGGHTS' Error::one prints without a flush before
-    # MPI_Abort (doc/liggghts_quirks.md); line buffering keeps the message
-    command = ["stdbuf", "-oL", str(binary), "-in", str(deck_path), "-log", "none"]
-    for name, value in variables.items():
-        command += ["-var", name, str(value)]
-    if mpi > 1:
-        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(mpi)] + command
-    if nice:
-        command = ["nice", "-n", str(nice)] + command
-    return command
-
-
-def claim_host(out, host):
-    """Writes the campaign's host to OUT/host.txt, or raises ValueError
-    when the campaign was run with the other host (its restart files are
-    that host's, and its records would mix the two)."""
-    path = Path(out) / "host.txt"
-    if path.exists():
-        recorded = path.read_text().strip()
-        if recorded != host:
-            raise ValueError(f"{out} is a {recorded} campaign (host.txt): run --host {recorded} "
-                             f"there, or --host {host} in another --campaign")
-    else:
-        path.write_text(host + "\n")
-
-
 def ensure_header(path, header):
     path = Path(path)
     if not path.exists() or path.stat().st_size == 0:
@@ -209,8 +164,8 @@ class Runner:
     def engine(self, deck, variables, log):
         """Runs step `deck` ("in.build", "in.discharge") in the campaign's
         host (LIGGGHTS, or LAMMPS with --host lammps); seconds of wall time."""
-        deck = deck_name(self.args.host, deck)
-        command = engine_command(self.args.host, INPUTS / "pile2d" / deck, variables,
+        deck = hosts.deck_name(self.args.host, deck)
+        command = hosts.engine_command(self.args.host, INPUTS / "pile2d" / deck, variables,
                                  self.args.mpi, self.args.nice)
         started = time.time()
         with open(log, "w") as handle:
@@ -280,7 +235,7 @@ class Runner:
         a = self.args
         (self.out / "piles").mkdir(parents=True, exist_ok=True)
         (self.out / "logs").mkdir(parents=True, exist_ok=True)
-        claim_host(self.out, a.host)
+        hosts.claim_host(self.out, a.host)
         ensure_header(self.piles_file, PILES_HEADER)
         ensure_header(self.results_file, DISCHARGES_HEADER)
         # the records do not carry every deck variable (--var): each
@@ -346,7 +301,7 @@ def parse(argv):
     parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
                         help="any other deck variable, for both decks (repeatable)")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="tasks run at once")
-    parser.add_argument("--host", choices=HOSTS, default="liggghts",
+    parser.add_argument("--host", choices=hosts.HOSTS, default="liggghts",
                         help="the engine: liggghts (default; $SILOKIT_LIGGGHTS) or lammps ($SILOKIT_LMP, "
                              "the .lammps decks, the plugin from $SILOKIT_LAMMPS_PLUGIN if set)")
     parser.add_argument("--mpi", type=int, default=1, help="MPI ranks per engine run")

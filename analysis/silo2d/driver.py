@@ -6,7 +6,7 @@ from which the next one starts (doc/silo2d.md, "Running a campaign").
 A run is a chain of segments: segment 1 fills the silo and runs
 `--segment-time` seconds of the clog loop, segment k > 1 reads the restart
 file of segment k - 1 and runs as long again. A segment is complete when
-LIGGGHTS has ended normally and written its restart file; the driver then
+the engine has ended normally and written its restart file; the driver then
 appends a line to segments.txt. A cut segment (the session ended, ^C, a
 crash) has no line: the next call runs it again from the restart file of
 the segment before, and fix clog first removes the records the cut segment
@@ -20,15 +20,27 @@ contacts.txt, reinject.txt, silo.txt), parameters.txt (the deck variables
 of the run: a resumed run must be given the same), segments.txt (one line
 per complete segment: segment, time of the last clog attempt, clog attempts,
 arches, CPU seconds and wall seconds of the segment), state<k>.restart
-(the last two are kept), logs/segment<k>.txt (LIGGGHTS' screen output).
+(the last two are kept), logs/segment<k>.txt (the engine's screen output);
+in OUT/: host.txt (the campaign's engine).
+
+--host lammps runs the same segments in LAMMPS ($SILOKIT_LMP, default
+build/bin/lmp) with the deck's twin in.silo2d.lammps and `-var plugin
+$SILOKIT_LAMMPS_PLUGIN` when that is set (doc/silo2d.md, "LAMMPS"): the
+same -var names, the same records, its own restart files
+(`read_restart state<k-1>.restart`), and fix clog removes a cut segment's
+rows there too (doc/fix_clog_lammps.md, Restart). A campaign holds one
+host's runs: the host goes to OUT/host.txt and a call with the other is
+refused (analysis.common.hosts.claim_host); a campaign with segments and
+no host.txt was run before the switch existed, by LIGGGHTS.
 
 CLI:
     python3 -m analysis.silo2d.driver --campaign runs/silo2d --mu 0.2 0.4 0.8 \\
         --arches 200 --dt 2e-5 --segment-time 20 -j 2
-Environment: SILOKIT_LIGGGHTS (the binary, default build/bin/liggghts) and
-SILOKIT_INPUTS (the inputs/ directory, default the repository's): LIGGGHTS
-reads its deck as it runs, so a campaign that must survive edits of the
-repository runs on copies of both.
+Environment: SILOKIT_LIGGGHTS (the binary, default build/bin/liggghts),
+SILOKIT_LMP and SILOKIT_LAMMPS_PLUGIN (--host lammps) and SILOKIT_INPUTS
+(the inputs/ directory, default the repository's): LIGGGHTS reads its deck
+as it runs, so a campaign that must survive edits of the repository runs
+on copies of the binary and the decks.
 Calling it again with the same arguments continues; a larger --arches
 extends a finished run.
 """
@@ -42,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.common import hosts
 from analysis.common.tables import read_table
 from analysis.common.cli import command_line
 
@@ -50,7 +63,6 @@ ROOT = Path(__file__).resolve().parents[2]
 # reads it again): a deck edited while a campaign runs would be read half
 # old, half new. A long campaign should run on a copy (--inputs).
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
-BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
 SEGMENTS_HEADER = "# segment last_clog_time clogs arches cpu_s wall_s"
 # fix clog raises its flag only after this many arches: the driver, not the
 # deck, decides when a run has enough, so a finished run can be extended
@@ -112,20 +124,23 @@ def simulated_time(directory):
     return float(times[-1]) if times.size else 0.0
 
 
-def run_segment(directory, segment, variables, segment_time, nprocs):
+def segment_command(host, segment, variables, segment_time, nprocs=1, nice=0):
+    """The command line of segment `segment` (1, 2, ...) of a run in
+    `host`: the scene's deck for that host, the run's variables, then the
+    segment's (segment k reads state<k-1>.restart, writes state<k>.restart)."""
+    variables = {"inputs": INPUTS, **variables, "segment": segment,
+                 "segment_time": f"{segment_time:g}", "state": "state"}
+    deck = INPUTS / "silo2d" / hosts.deck_name(host, "in.silo2d")
+    return hosts.engine_command(host, deck, variables, nprocs, nice, options=("-echo", "none"))
+
+
+def run_segment(directory, segment, variables, segment_time, nprocs, host="liggghts", nice=0):
     """Runs segment `segment` (1, 2, ...); returns (cpu_s, wall_s); raises
-    RuntimeError if LIGGGHTS fails or writes no restart file."""
+    RuntimeError if the engine fails or writes no restart file."""
     logs = directory / "logs"
     logs.mkdir(exist_ok=True)
     save_to = f"state{segment}.restart"
-    command = ["stdbuf", "-oL", str(BINARY), "-in", str(INPUTS / "silo2d" / "in.silo2d"), "-echo", "none",
-               "-log", "none", "-var", "inputs", str(INPUTS)]
-    for name, value in variables.items():
-        command += ["-var", name, value]
-    command += ["-var", "segment", str(segment), "-var", "segment_time", f"{segment_time:g}",
-                "-var", "state", "state"]
-    if nprocs > 1:
-        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(nprocs)] + command
+    command = segment_command(host, segment, variables, segment_time, nprocs, nice)
     (directory / save_to).unlink(missing_ok=True)
     start = time.time()
     with open(logs / f"segment{segment}.txt", "w") as log:
@@ -138,6 +153,17 @@ def run_segment(directory, segment, variables, segment_time, nprocs):
         raise RuntimeError(f"segment {segment} in {directory} failed (exit {process.returncode}); "
                            f"see {logs / f'segment{segment}.txt'}")
     return usage.ru_utime + usage.ru_stime, wall
+
+
+def claim_campaign_host(out, host):
+    """The campaign's host in OUT/host.txt (hosts.claim_host: ValueError
+    for the other host). A campaign that has segments but no host.txt was
+    run before --host existed, by LIGGGHTS: its host is written first."""
+    out = Path(out)
+    if not (out / "host.txt").exists() and any(
+            completed_segments(run) for run in out.glob("mu*") if run.is_dir()):
+        (out / "host.txt").write_text("liggghts\n")
+    hosts.claim_host(out, host)
 
 
 def remove_old_restart_files(directory, segment):
@@ -153,13 +179,17 @@ class Campaign:
     statistics at every mu."""
 
     def __init__(self, out, mus, arches_wanted, dt, seed, quick, segment_time, max_segments,
-                 nprocs, extra, log=print):
+                 nprocs, extra, log=print, host="liggghts", nice=0):
         self.arches_wanted = arches_wanted
         self.segment_time = segment_time
         self.nprocs = nprocs
+        self.host = host
+        self.nice = nice
         self.log = log
         self.lock = threading.Lock()
         self.runs = {}
+        Path(out).mkdir(parents=True, exist_ok=True)
+        claim_campaign_host(out, host)
         for mu in mus:
             directory = run_directory(out, mu)
             directory.mkdir(parents=True, exist_ok=True)
@@ -207,7 +237,8 @@ class Campaign:
         if segment > 1 and not (directory / f"state{segment - 1}.restart").exists():
             raise RuntimeError(f"state{segment - 1}.restart is missing in {directory}, "
                                f"though segments.txt says segment {segment - 1} is complete")
-        cpu, wall = run_segment(directory, segment, run["variables"], self.segment_time, self.nprocs)
+        cpu, wall = run_segment(directory, segment, run["variables"], self.segment_time, self.nprocs,
+                                self.host, self.nice)
         clogs, arches = count_records(directory)
         row = {"segment": segment, "last_clog_time": simulated_time(directory), "clogs": clogs,
                "arches": arches, "cpu_s": cpu, "wall_s": wall}
@@ -248,6 +279,10 @@ def parse(argv):
     parser.add_argument("--max-segments", type=int, default=1000000,
                         help="at most this many segments per mu in this call")
     parser.add_argument("--mpi", type=int, default=1, help="ranks per run (mpirun -np)")
+    parser.add_argument("--host", choices=hosts.HOSTS, default="liggghts",
+                        help="the engine: liggghts (default; $SILOKIT_LIGGGHTS) or lammps ($SILOKIT_LMP, "
+                             "in.silo2d.lammps, the plugin from $SILOKIT_LAMMPS_PLUGIN if set)")
+    parser.add_argument("--nice", type=int, default=0, help="run the engine under nice -n N")
     parser.add_argument("-j", "--jobs", type=int, default=1, help="segments at once (of different mu)")
     parser.add_argument("--var", action="append", default=[], metavar="NAME=VALUE",
                         help="another deck variable, the same for every segment (repeatable)")
@@ -272,10 +307,16 @@ def parse(argv):
 
 def main(argv=None):
     args = parse(argv)
-    if not BINARY.exists():
-        raise SystemExit(f"silo2d_driver: no LIGGGHTS binary at {BINARY} (bash tools/build.sh)")
-    campaign = Campaign(args.campaign, args.mu, args.arches, args.dt, args.seed, args.quick,
-                        args.segment_time, args.max_segments, args.mpi, dict(args.var))
+    binary = hosts.engine_binary(args.host)
+    if not binary.exists():
+        raise SystemExit(f"silo2d_driver: no {args.host} binary at {binary} (bash tools/build.sh)")
+    try:
+        campaign = Campaign(args.campaign, args.mu, args.arches, args.dt, args.seed, args.quick,
+                            args.segment_time, args.max_segments, args.mpi, dict(args.var),
+                            host=args.host, nice=args.nice)
+    except ValueError as problem:
+        print(f"silo2d_driver: {problem}", file=sys.stderr)
+        return 2
     results = campaign.run_all(args.jobs)
     for mu, (arches, failed) in results.items():
         print(f"silo2d_driver: mu {mu:g}: {arches} arches" + (f" (stopped: {failed})" if failed else ""),

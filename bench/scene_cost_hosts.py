@@ -8,9 +8,13 @@ build/lib/silokit_lammps.so), with the same -var values.
 
 Scenes (the production physics, cut short so that a run takes 10-40 CPU-s):
   silo2d   the paper's clogging silo (2870 grains, 32 d wide, mu = 0.4) at
-           the campaigns' dt = 2e-5 s and seed 32452843: filling, then
-           total_time = 0.5 s of flow with fix clog and fix reinject
-           (the first segment of a campaign, cut short)
+           the campaigns' dt = 2e-5 s and seed 32452843: 1 s of flow with
+           fix clog and fix reinject, as segment 2 of a campaign (the
+           deck's -var segment 2 -var segment_time 1) from the state a
+           segment 1 of 0.1 s wrote; that segment 1 (filling) runs once
+           per host, untimed, its CPU and simulated time reported apart
+           and the state cached in bench/work/ (the hosts fill for
+           different times, see below, and a campaign fills once)
   pile2d   the open pile, L = 50 d, model fixed, seed 15485863: the build
            (rain and relaxation, in.build) and one discharge at w = 3 d
            (in.discharge)
@@ -41,6 +45,7 @@ Writes bench/results/scene_cost_hosts.txt and the section
 """
 
 import argparse
+import hashlib
 import os
 import re
 import shutil
@@ -77,16 +82,24 @@ class Scene:
     hosts promise the same records, and how to read its simulated time
     and outcome from the directory."""
 
-    def __init__(self, name, title, runs, records, same_in_both):
+    def __init__(self, name, title, runs, records, same_in_both, prepare=None, dt=None):
         self.name, self.title, self.runs = name, title, runs
         self.records, self.same_in_both = records, same_in_both
+        # (run, files): an untimed run made once per host whose output
+        # files the timed runs start from (linked into their directory)
+        self.prepare, self.dt = prepare, dt
 
 
 def scenes(quick):
     common = {"inputs": INPUTS}
-    silo2d = {**common, "mu": 0.4, "seed": 32452843, "dt": 2e-5, "total_time": 0.5}
+    silo2d = {**common, "mu": 0.4, "seed": 32452843, "dt": 2e-5}
     if quick:
-        silo2d = {**common, "quick": 1, "total_time": 0.2}
+        silo2d = {**common, "quick": 1, "dt": 1e-5}
+    flow_time = 0.2 if quick else 1.0
+    # a campaign's segments: segment 1 fills and flows 0.1 s, writes state1.restart
+    fill = ("silo2d", "in.silo2d", {**silo2d, "segment": 1, "segment_time": 0.1, "state": "state"})
+    flow = ("silo2d", "in.silo2d", {**silo2d, "segment": 2, "segment_time": flow_time,
+                                    "state": "state"})
     pile = {**common, "model": "fixed", "L": 20 if quick else 50, "seed": 15485863,
             "pile": "pile.restart"}
     silo3d = {**common, "quick": 1, "f": 0.32}
@@ -95,9 +108,9 @@ def scenes(quick):
     return [
         Scene("silo2d", ("clogging silo, the quick one (230 grains)" if quick else
                          "clogging silo, the paper's (2870 grains, dt 2e-5 s)")
-              + f": filling + {silo2d['total_time']} s of flow",
-              [("silo2d", "in.silo2d", silo2d)],
-              ("clogs.txt", "reinject.txt"), same_in_both=False),
+              + f": {flow_time} s of flow from the filled state (segment 2)",
+              [flow], ("clogs.txt", "reinject.txt"), same_in_both=False,
+              prepare=(fill, ("state1.restart",)), dt=silo2d["dt"]),
         Scene("pile2d", f"open pile, L = {pile['L']} d, model fixed: build + one discharge (w = 3 d)",
               [("pile2d", "in.build", {**pile, "piles": "piles.txt"}),
                ("pile2d", "in.discharge", {**pile, "w": 3, "results": "discharges.txt"})],
@@ -131,11 +144,34 @@ def engine_run(host, folder, deck, variables, workdir, log):
     return usage.ru_utime + usage.ru_stime, output
 
 
-def run_scene(scene, host, workdir):
-    """All runs of a scene in a fresh directory: dict of cpu, steps,
-    atoms, simulated time, outcome, the records' text."""
+def prepare_scene(scene, host, workdir):
+    """The scene's untimed run in `workdir`, once (kept while its files
+    are there): dict of cpu, steps, simulated time, screen output."""
+    (folder, deck, variables), files = scene.prepare
+    screen = workdir / "prepare.txt"
+    if not all((workdir / name).exists() for name in files) or not screen.exists():
+        shutil.rmtree(workdir, ignore_errors=True)
+        workdir.mkdir(parents=True)
+        benchlib.progress(f"{scene.name} {host}: the untimed run ({deck} "
+                          + " ".join(f"{k} {v}" for k, v in variables.items() if k != "inputs")
+                          + f"), once, in {benchlib.shown_path(workdir)}")
+        cpu, output = engine_run(host, folder, deck, variables, workdir, workdir / "run.txt")
+        (workdir / "cpu.txt").write_text(f"{cpu:.2f}\n")
+        (workdir / "run.txt").rename(screen)
+    output = screen.read_text(errors="replace")
+    steps = sum(int(s) for s, _ in LOOP_TIME.findall(output))
+    return {"cpu": float((workdir / "cpu.txt").read_text()), "steps": steps,
+            "simulated": steps * scene.dt, "output": output}
+
+
+def run_scene(scene, host, workdir, prepared=None):
+    """All runs of a scene in a fresh directory (the prepared files linked
+    into it): dict of cpu, steps, atoms, simulated time, outcome, the
+    records' text."""
     shutil.rmtree(workdir, ignore_errors=True)
     workdir.mkdir(parents=True)
+    for name in (scene.prepare[1] if scene.prepare else ()):
+        (workdir / name).symlink_to(prepared / name)
     cpu, outputs = 0.0, []
     for k, (folder, deck, variables) in enumerate(scene.runs):
         seconds, output = engine_run(host, folder, deck, variables, workdir,
@@ -144,8 +180,9 @@ def run_scene(scene, host, workdir):
         outputs.append(output)
     loops = [(int(s), int(a)) for output in outputs for s, a in LOOP_TIME.findall(output)]
     records = {name: (workdir / name).read_text() for name in scene.records}
-    simulated, outcome = SCENE_READERS[scene.name](workdir, outputs, records)
-    return {"cpu": cpu, "steps": sum(s for s, _ in loops), "atoms": max(a for _, a in loops),
+    steps = sum(s for s, _ in loops)
+    simulated, outcome = SCENE_READERS[scene.name](workdir, outputs, records, steps * (scene.dt or 0))
+    return {"cpu": cpu, "steps": steps, "atoms": max(a for _, a in loops),
             "simulated": simulated, "outcome": outcome, "records": records}
 
 
@@ -153,14 +190,15 @@ def data_rows(text):
     return [line.split() for line in text.splitlines() if line.strip() and not line.startswith("#")]
 
 
-def read_silo2d(workdir, outputs, records):
-    """Simulated time from the deck's last line; outcome: clogs, grains re-entered."""
+def read_silo2d(workdir, outputs, records, steps_time):
+    """Simulated time: the segment's steps times dt (LAMMPS' `time` starts
+    again at a restart); outcome: clogs, lines of the re-entry record."""
     clogs, arches, t_end = SILO2D_DONE.findall(outputs[-1])[-1]
     reentered = len(data_rows(records["reinject.txt"]))
-    return float(t_end), f"{clogs} clogs, {reentered} re-entry lines"
+    return steps_time, f"{clogs} clogs, {reentered} re-entry lines, t_end {float(t_end):.4g} s"
 
 
-def read_pile(workdir, outputs, records):
+def read_pile(workdir, outputs, records, steps_time):
     """Simulated time: the build's and the discharge's t_end (s; each counts
     from its own start); outcome: grains of the pile, grains out."""
     pile = data_rows(records["piles.txt"])[-1]
@@ -169,7 +207,7 @@ def read_pile(workdir, outputs, records):
             f"n_pile {pile[3]}, h0 {float(pile[4]):.4f}; w = 3: {discharge[5]} out, h {float(discharge[4]):.4f}")
 
 
-def read_silo3d(workdir, outputs, records):
+def read_silo3d(workdir, outputs, records, steps_time):
     """Simulated time from run.txt (`finished`); outcome: grains out at the end."""
     finished = [line.split()[1] for line in (workdir / "run.txt").read_text().splitlines()
                 if line.startswith("finished ")]
@@ -224,7 +262,7 @@ def consistency(scene, results):
             + f"; the hosts differ by design ({outcome}).")
 
 
-def report(all_scenes, results, args, start_load):
+def report(all_scenes, results, prepared, args, start_load):
     end_load = benchlib.load_average()
     lines = [
         "Measured with `bench/scene_cost_hosts.py`: each scene's production deck in "
@@ -260,9 +298,17 @@ def report(all_scenes, results, args, start_load):
             + " ".join(f"-var {k} {v}" for k, v in variables.items() if k != "inputs")
             for _, deck, variables in scene.runs)
         lines.append(f"- **{scene.name}** {scene.title}: {commands}.")
+    for scene in [s for s in all_scenes if s.prepare]:
+        runs = {host: prepared[(scene.name, host)][1] for host in HOSTS}
+        (_, deck, variables), _ = scene.prepare
+        lines += ["", f"The untimed run the **{scene.name}** runs start from (`{deck}` "
+                  + " ".join(f"-var {k} {v}" for k, v in variables.items() if k != "inputs")
+                  + ", once per host, cached): "
+                  + "; ".join(f"{host} {runs[host]['steps']} steps, {runs[host]['simulated']:.4g} s "
+                              f"simulated, {runs[host]['cpu']:.1f} CPU-s" for host in HOSTS) + "."]
     lines += ["", "Steps: the sum of the `Loop time` lines of the first run (the hosts' run "
               "chunks differ, so the counts may differ by a few steps); atoms: the most in any "
-              "`run`; simulated: the scene's own clock (silo2d the deck's last line, pile2d "
+              "`run`; simulated: the scene's own clock (silo2d its steps times Δt, pile2d "
               "the build's plus the discharge's `t_end`, silo3d `run.txt`'s `finished`). "
               "The same physics:"]
     lines += [f"- {scene.name}: {consistency(scene, results[scene.name])}" for scene in all_scenes]
@@ -305,6 +351,13 @@ def main():
     start_load = benchlib.load_average()
     all_scenes = [s for s in scenes(args.quick) if s.name in args.scenes]
     results = {s.name: {h: [] for h in HOSTS} for s in all_scenes}
+    prepared = {}
+    for scene in [s for s in all_scenes if s.prepare]:
+        # named after the run's variables: other variables, another state
+        key = hashlib.sha256(repr(scene.prepare).encode()).hexdigest()[:10]
+        for host in HOSTS:
+            folder = work / f"{scene.name}_prepared" / f"{host}_{key}"
+            prepared[(scene.name, host)] = (folder, prepare_scene(scene, host, folder))
     raw = ["# scene_cost_hosts raw runs", f"# {benchlib.command_line()}",
            "# repetition scene host cpu_s steps atoms simulated_s outcome"]
     for rep in range(args.repetitions):
@@ -312,7 +365,8 @@ def main():
         for scene in all_scenes:
             for host in order:
                 started = time.time()
-                result = run_scene(scene, host, work / scene.name / host)
+                result = run_scene(scene, host, work / scene.name / host,
+                                   prepared.get((scene.name, host), (None,))[0])
                 results[scene.name][host].append(result)
                 raw.append(f"{rep} {scene.name} {host} {result['cpu']:.2f} {result['steps']} "
                            f"{result['atoms']} {result['simulated']:.6g} {result['outcome']}")
@@ -321,7 +375,7 @@ def main():
                                   f"{result['steps']} steps, {result['simulated']:.4g} s simulated; "
                                   f"{result['outcome']}")
 
-    table = report(all_scenes, results, args, start_load)
+    table = report(all_scenes, results, prepared, args, start_load)
     benchlib.write_page_section(PAGE, SECTION, table, header="# LAMMPS host\n")
     path = benchlib.write_raw(SECTION, table + "\n\n## Raw runs\n\n" + "\n".join(raw) + "\n")
     benchlib.progress(f"wrote {benchlib.shown_path(PAGE)} and {benchlib.shown_path(path)}")

@@ -6,7 +6,7 @@ build/bin/liggghts) and in LAMMPS (the `.lammps` twins, $SILOKIT_LMP,
 default build/bin/lmp, with the plugin $SILOKIT_LAMMPS_PLUGIN, default
 build/lib/silokit_lammps.so), with the same -var values.
 
-Scenes (the production physics, cut short so that a run takes 10-40 CPU-s):
+Scenes (the production physics, cut short: 9-25 CPU-s per run here):
   silo2d   the paper's clogging silo (2870 grains, 32 d wide, mu = 0.4) at
            the campaigns' dt = 2e-5 s and seed 32452843: 1 s of flow with
            fix clog and fix reinject, as segment 2 of a campaign (the
@@ -14,7 +14,8 @@ Scenes (the production physics, cut short so that a run takes 10-40 CPU-s):
            segment 1 of 0.1 s wrote; that segment 1 (filling) runs once
            per host, untimed, its CPU and simulated time reported apart
            and the state cached in bench/work/ (the hosts fill for
-           different times, see below, and a campaign fills once)
+           different times, doc/lammps_host.md 10.1, and a campaign
+           fills once)
   pile2d   the open pile, L = 50 d, model fixed, seed 15485863: the build
            (rain and relaxation, in.build) and one discharge at w = 3 d
            (in.discharge)
@@ -40,7 +41,8 @@ host, and the table gives each host's grains out and clogs.
 Writes bench/results/scene_cost_hosts.txt and the section
 `scene_cost_hosts` of doc/lammps_host.md (section 10.1).
 
-    /usr/bin/python3 bench/scene_cost_hosts.py            # 3 repetitions, ~7 CPU-min
+    /usr/bin/python3 bench/scene_cost_hosts.py            # 3 repetitions, ~5 CPU-min
+                                                          # (+ ~2.5 once: the filled silo)
     /usr/bin/python3 bench/scene_cost_hosts.py --quick    # 1 repetition, small runs, < 1 CPU-min
 """
 

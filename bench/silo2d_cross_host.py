@@ -33,6 +33,16 @@ the angles and forces, the bulk window 27 < h/d < 48, |x| < 12 d):
   p-value, also written to the raw file, is far too small); the force
   ratio, a permutation test over clogs of |difference|.
 
+The weak-contact tail, and the plates: the fraction of each clog's bulk
+contacts with f_n < 0.1 m g, per host, with the plates' friction of the
+campaign (mu_plate = mu) and with frictionless plates (mu_plate = 0, where
+both hosts' plates are the same law): LIGGGHTS' run
+doc/data/silo2d_plate/mu0.4_plate0 and a LAMMPS one, run with
+--plate0-campaign DIR (to --plate0-arches, default 5) and reduced into
+doc/data/silo2d_cross_host/mu0.4_plate0/. Per run the mean over clogs with
+its Student-t interval; between the hosts, Mann-Whitney U on the clogs'
+fractions.
+
 CPU: LAMMPS' from the campaign's segments.txt (the engine's user + system
 time per segment), LIGGGHTS' from doc/data/silo2d_scan/mu0.4/segments.txt.
 
@@ -44,6 +54,8 @@ doc/silo2d.md.
 
     SILOKIT_LMP=... SILOKIT_LAMMPS_PLUGIN=... /usr/bin/python3 bench/silo2d_cross_host.py runs/silo2d_cross_host
         # 100 arches, ~45 CPU-min; the same command resumes, a larger --arches extends
+    SILOKIT_LMP=... /usr/bin/python3 bench/silo2d_cross_host.py runs/silo2d_cross_host \
+        --plate0-campaign runs/silo2d_lammps_plate0   # and the frictionless plates' run, ~25 CPU-min more
     /usr/bin/python3 bench/silo2d_cross_host.py --report-only      # no engine: doc/data alone
     /usr/bin/python3 bench/silo2d_cross_host.py --quick            # the small silo, 3 arches, ~1 CPU-min
 """
@@ -75,6 +87,10 @@ DATA = benchlib.ROOT / "doc" / "data"
 LIGGGHTS_RUN = DATA / "silo2d_scan" / "mu0.4"
 SCAN_RUNS = tuple(str(DATA / "silo2d_scan" / f"mu{mu:g}") for mu in results.MUS)
 RECORDS = DATA / SECTION / "mu0.4"
+# frictionless plates: LIGGGHTS' run of the plate test, and the LAMMPS one's records
+LIGGGHTS_PLATE0 = DATA / "silo2d_plate" / "mu0.4_plate0"
+PLATE0_RECORDS = DATA / SECTION / "mu0.4_plate0"
+WEAK = 0.1          # m g: a bulk contact below this is in the weak tail
 MU = 0.4
 NICE = 10
 SEGMENT_TIME = 10.0
@@ -93,14 +109,17 @@ def liggghts_parameters():
     return float(values["dt"]), int(values["seed"])
 
 
-def run_campaign(campaign, arches, quick):
-    """The LAMMPS campaign through the driver until `arches`; its exit code."""
+def run_campaign(campaign, arches, quick, plate_friction=None):
+    """The LAMMPS campaign through the driver until `arches` (with the
+    plates' friction `plate_friction` if given, else mu); its exit code."""
     dt, seed = liggghts_parameters()
     argv = ["--host", "lammps", "--nice", str(NICE), "--campaign", str(campaign), "--mu", f"{MU:g}",
             "--arches", str(arches), "--dt", f"{dt:g}", "--seed", str(seed),
             "--segment-time", f"{2.0 if quick else SEGMENT_TIME:g}"]
     if quick:
         argv.append("--quick")
+    if plate_friction is not None:
+        argv += ["--var", f"mu_plate={plate_friction:g}"]
     benchlib.progress(f"LAMMPS campaign: analysis.silo2d.driver {' '.join(argv)}")
     return driver.main(argv)
 
@@ -382,7 +401,36 @@ def cost_text(run_dir, host):
             f"CPU-hour), {per_100:.2f} CPU-hours per 100 arches"), per_100
 
 
-def report(rows, raw, arches, lammps_records, quick):
+def weak_fractions(run_dir):
+    """Per clog of a run, the fraction of its bulk contacts (the table's
+    window) with f_n below WEAK m g."""
+    return np.array([np.mean(group["bulk_fn"] < WEAK) for group in host_data(run_dir)["groups"]])
+
+
+def weak_tail_text(liggghts_dir, lammps_records, plate0_records):
+    """The weak-contact tail per host, with the campaign's plates and with
+    frictionless ones where both hosts' runs exist: a markdown table."""
+    runs = [("μ_plate = μ = 0.4", liggghts_dir, lammps_records),
+            ("μ_plate = 0", LIGGGHTS_PLATE0, plate0_records)]
+    lines = [f"| plates | LIGGGHTS: clogs, fraction of bulk contacts with f_n < {WEAK:g} m g "
+             "(mean over clogs, 95 %) | LAMMPS: the same | Mann-Whitney U over clogs |",
+             "|---|---|---|---|"]
+    for plates, liggghts_run, lammps_run in runs:
+        if not ((Path(liggghts_run) / "clogs.txt").exists() and (Path(lammps_run) / "clogs.txt").exists()):
+            lines.append(f"| {plates} | (not run) | | |")
+            continue
+        cells, fractions = [], []
+        for run in (liggghts_run, lammps_run):
+            values = weak_fractions(run)
+            mean, half = mean_t_ci(values)
+            fractions.append(values)
+            cells.append(f"{values.size}: {100 * mean:.2f} ± {100 * half:.2f} %")
+        test = stats.mannwhitneyu(fractions[0], fractions[1], alternative="two-sided")
+        lines.append(f"| {plates} | {cells[0]} | {cells[1]} | p = {test.pvalue:.2g} |")
+    return "\n".join(lines)
+
+
+def report(rows, raw, arches, lammps_records, quick, weak_tail=""):
     table = [f"| quantity | LIGGGHTS ({arches['liggghts']} arches) | LAMMPS ({arches['lammps']} arches) | "
              "LAMMPS − LIGGGHTS [95 %] | two-sample test | agree |",
              "|---|---|---|---|---|---|"]
@@ -436,6 +484,13 @@ and p ≥ 0.05 (for η, the smaller p of its two tests).
 
 {verdict}
 
+The weak-contact tail of the bulk force, with the campaign's plates and
+with frictionless plates (where both hosts' plates are the same law; the
+runs: `doc/data/silo2d_plate/mu0.4_plate0` and
+`doc/data/silo2d_cross_host/mu0.4_plate0`):
+
+{weak_tail}
+
 CPU (user + system of the engine, one rank):
 - {liggghts_cost};
 - {lammps_cost}.{ratio}
@@ -449,7 +504,8 @@ CPU (user + system of the engine, one rank):
                          + [f"{row['quantity']} | LIGGGHTS {row['liggghts']} | LAMMPS {row['lammps']} | "
                             f"difference {'' if row['difference'] is None else interval_text(row['difference'], 3)}"
                             f" | {row['test']}" for row in rows]
-                         + raw + [f"# {liggghts_cost}", f"# {lammps_cost}"]) + "\n"
+                         + raw + [f"# {liggghts_cost}", f"# {lammps_cost}", "# the weak-contact tail:"]
+                         + weak_tail.splitlines()) + "\n"
     return text, raw_text
 
 
@@ -495,15 +551,20 @@ def main():
                         help="no engine: report from doc/data alone")
     parser.add_argument("--quick", action="store_true",
                         help="the small silo, 3 arches, under bench/work/quick/ (a smoke run)")
+    parser.add_argument("--plate0-campaign", dest="plate0_campaign", type=Path,
+                        help="also run (or resume) LAMMPS with frictionless plates there")
+    parser.add_argument("--plate0-arches", dest="plate0_arches", type=int, default=5,
+                        help="arches wanted from the frictionless plates' run (default 5)")
     args = parser.parse_args()
     if args.quick:
         benchlib.use_smoke_outputs()
         quick_dir = benchlib.WORK / "quick"
         campaign, arches = args.campaign or quick_dir / SECTION, 3
         page, records = quick_dir / "silo2d.md", quick_dir / "data" / SECTION / "mu0.4"
+        plate0_records = quick_dir / "data" / SECTION / "mu0.4_plate0"
     else:
         campaign, arches = args.campaign, args.arches
-        page, records = PAGE, RECORDS
+        page, records, plate0_records = PAGE, RECORDS, PLATE0_RECORDS
         if campaign is None and not args.report_only:
             parser.error("the campaign directory is needed (or --report-only)")
     if not args.report_only:
@@ -511,11 +572,17 @@ def main():
         if status != 0:
             raise SystemExit(f"{SECTION}: the driver failed (exit {status})")
         archive_run(driver.run_directory(campaign, MU), records)
+        if args.plate0_campaign:
+            status = run_campaign(args.plate0_campaign, args.plate0_arches, args.quick, plate_friction=0)
+            if status != 0:
+                raise SystemExit(f"{SECTION}: the driver failed with frictionless plates (exit {status})")
+            archive_run(driver.run_directory(args.plate0_campaign, MU), plate0_records)
     if not (records / "clogs.txt").exists():
         raise SystemExit(f"{SECTION}: no LAMMPS records in {records}: run the campaign first")
     benchlib.progress("comparing (about a minute: the scan's three runs for the LIGGGHTS rows)")
     rows, raw, arch_counts = compare(LIGGGHTS_RUN, SCAN_RUNS, records)
-    text, raw_text = report(rows, raw, arch_counts, records, args.quick)
+    weak_tail = weak_tail_text(LIGGGHTS_RUN, records, plate0_records)
+    text, raw_text = report(rows, raw, arch_counts, records, args.quick, weak_tail)
     raw_path = benchlib.write_raw(SECTION, raw_text)
     benchlib.write_page_section(page, SECTION, text, "# silo2d cross-host (smoke run)\n")
     print(text)

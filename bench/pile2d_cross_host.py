@@ -41,6 +41,7 @@ the LAMMPS records into doc/data/pile2d_cross_host/ and the section
 import argparse
 import math
 import os
+import re
 import resource
 import shutil
 import sys
@@ -62,6 +63,9 @@ SECTION = "pile2d_cross_host"
 PAGE = benchlib.ROOT / "doc" / "pile2d.md"
 DATA = benchlib.ROOT / "doc" / "data"
 RECORDS = DATA / "pile2d_cross_host"
+# the driver writes the campaign's absolute paths (restart files, --campaign);
+# the records keep them relative to the clone that ran them
+ABSOLUTE_WORK_PATH = re.compile(r"/\S*?/(?=bench/work/)")
 # LIGGGHTS' records of each model (doc/pile2d.md, results)
 LIGGGHTS_RECORDS = {"none": DATA / "pile2d_standing" / "discharges.txt",
                     "fixed": DATA / "pile2d_discharges.txt"}
@@ -284,6 +288,12 @@ of {len(checked)} lines identical to the recorded ensemble's.
     return text, "\n".join(raw) + "\n"
 
 
+def repository_paths(text):
+    """The driver's records with their paths made relative to the clone's
+    root (`/any/clone/bench/work/...` -> `bench/work/...`)."""
+    return ABSOLUTE_WORK_PATH.sub("", text)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true",
@@ -335,7 +345,7 @@ def main():
     records.mkdir(parents=True, exist_ok=True)
     for name in ("piles.txt", "discharges.txt", "driver_commands.txt"):
         if (lammps_dir / name).exists():
-            shutil.copyfile(lammps_dir / name, records / name)
+            (records / name).write_text(repository_paths((lammps_dir / name).read_text()))
     if cpu_file.exists():
         shutil.copyfile(cpu_file, records / "cpu.txt")
     benchlib.write_page_section(page, SECTION, text, "# pile2d cross-host (smoke run)\n")

@@ -62,8 +62,8 @@ import benchlib  # noqa: E402
 sys.path.insert(0, str(benchlib.ROOT))
 from analysis.common import hosts  # noqa: E402
 
-LIGGGHTS = Path(os.environ.get("SILOKIT_LIGGGHTS", benchlib.ROOT / "build" / "bin" / "liggghts"))
-LMP = Path(os.environ.get("SILOKIT_LMP", benchlib.ROOT / "build" / "bin" / "lmp"))
+# the engines analysis.common.hosts runs ($SILOKIT_LIGGGHTS, $SILOKIT_LMP)
+LIGGGHTS, LMP = hosts.LIGGGHTS_BINARY, hosts.LAMMPS_BINARY
 PLUGIN = Path(os.environ.get("SILOKIT_LAMMPS_PLUGIN",
                              benchlib.ROOT / "build" / "lib" / "silokit_lammps.so"))
 PAGE = benchlib.ROOT / "doc" / "lammps_host.md"
@@ -132,9 +132,8 @@ def engine_run(host, folder, deck, variables, workdir, log):
     variables = dict(variables)
     if host == "lammps":
         variables["plugin"] = PLUGIN
-    binary = LMP if host == "lammps" else LIGGGHTS
     command = hosts.engine_command(host, INPUTS / folder / hosts.deck_name(host, deck),
-                                   variables, nice=NICE, binary=binary)
+                                   variables, nice=NICE)
     with open(log, "w") as screen:
         process = subprocess.Popen(command, cwd=workdir, stdout=screen, stderr=subprocess.STDOUT)
         _, status, usage = os.wait4(process.pid, 0)

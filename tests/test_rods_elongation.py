@@ -1,6 +1,6 @@
 """examples/silo3d_rotating/rods_elongation.sh on the quick silo (300 rods):
 a stage settles its packing with checkpoints and runs its two frequencies;
-`keep` archives the finished runs (with their orifice tables) and carries
+`keep` archives the finished runs (their orifice tables, no maps) and carries
 the packing; the next machine takes the packing from carry/ (not settled
 again) and skips the archived runs."""
 
@@ -39,6 +39,7 @@ def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carrie
     store = stores / "silo3d_rods_elongation_L4.0"
     for f in ("0", "0.32"):
         assert (store / f"D0.06_f{f}_s32452843" / "orifice_timeseries.md").exists(), log
+        assert not (store / f"D0.06_f{f}_s32452843" / "fields.npz").exists(), log   # KEEP_FIELDS=0
     carried = stores / "carry" / "silo3d_rods_elongation_L4.0" / "packings"   # beside the stores, outside a git tree
     assert (carried / "packing_s32452843.restart.xz").exists(), log
 

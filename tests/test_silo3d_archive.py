@@ -34,10 +34,14 @@ def test_the_archive_keeps_the_records_and_the_analysis_tables_but_no_dump(tmp_p
         assert (kept / name).read_text() == (run / name).read_text()
     assert lzma.open(kept / "reinject.txt.xz", "rt").read() == REINJECT
     assert (kept / "orifice_timeseries.md").read_text() == (analysed / "orifice_timeseries.md").read_text()
-    # the fields as float32: the maps' means of the full run within 1e-7 of each field's scale
+    # the fields as float32: the maps' means of the full run within 1e-7 of each field's scale;
+    # the stress tensors left out, their traces (the pressures) kept
     whole, archived = mean_fields(analysed / "fields.npz"), mean_fields(kept / "fields.npz")
-    assert sorted(whole["maps"]) == sorted(archived["maps"]) and "orientation" not in whole["maps"]
-    for name, values in whole["maps"].items():
+    assert "kinetic_stress" in whole["maps"] and "kinetic_pressure" in whole["maps"]
+    assert sorted(archived["maps"]) == sorted(set(whole["maps"]) - set(silo3d_archive.DROPPED_FIELDS))
+    assert "orientation" not in whole["maps"]
+    for name, values in archived["maps"].items():
+        values = whole["maps"][name]
         finite = np.isfinite(values)
         assert np.array_equal(finite, np.isfinite(archived["maps"][name]))
         assert np.max(np.abs(archived["maps"][name][finite] - values[finite])) <= 1e-7 * np.max(np.abs(values[finite]))
@@ -51,6 +55,12 @@ def test_the_archive_keeps_the_records_and_the_analysis_tables_but_no_dump(tmp_p
     assert (out_kept / "flow_rate_runs.md").read_text().split("\n")[1:] == \
         (full / "flow_rate_runs.md").read_text().split("\n")[1:]      # the title names the paths
     assert not (out_kept / "runs" / analysed.name / "fields.npz").exists()
+    # without the maps: the same records and orifice table, no fields.npz
+    lean = tmp_path / "lean"
+    assert silo3d_archive.main([str(run), str(lean), "--analysis", str(full), "--no-fields"]) == 0
+    assert sorted(p.name for p in lean.iterdir()) == [
+        "discharge.txt", "orifice_timeseries.md", "reinject.txt.xz", "run.txt"]
+    assert (lean / "orifice_timeseries.md").read_text() == (analysed / "orifice_timeseries.md").read_text()
 
 
 def test_without_an_analysis_the_archive_holds_the_records_only(tmp_path, capsys):

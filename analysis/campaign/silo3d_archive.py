@@ -8,7 +8,8 @@ The archive keeps
 - from an analysis of the whole run directory (`--analysis OUT`, the
   `--out` of analysis.silo3d_rotating that read this run, with the
   campaign's windows): the run's orifice_timeseries.md (the orifice-region
-  averages per frame) and fields.npz (the maps' fields, stored as float32).
+  averages per frame) and fields.npz (the maps' fields, stored as float32,
+  without the full stress tensors: DROPPED_FIELDS), unless `--no-fields`.
 
 The dumps (dump.cg, dump.contacts), checkpoints and restart files of a
 finished run are not kept: the analysis that needs them is done before
@@ -19,7 +20,7 @@ A run whose run.txt has no `finished` line is refused: its records are
 cut at a checkpoint or still growing (analysis.campaign.silo3d_carry carries an
 unfinished run to another machine outside doc/data, in carry/<campaign>/).
 
-CLI:  python3 -m analysis.campaign.silo3d_archive RUN_DIR ARCHIVE_DIR [--analysis OUT]
+CLI:  python3 -m analysis.campaign.silo3d_archive RUN_DIR ARCHIVE_DIR [--analysis OUT] [--no-fields]
 """
 
 import lzma
@@ -35,6 +36,11 @@ from analysis.common.cli import command_line
 RECORDS = ("run.txt", "discharge.txt")       # kept as they are
 PACKED = ("reinject.txt",)                     # kept with xz
 ANALYSED = ("orifice_timeseries.md",)          # from the analysis' runs/<label>/
+# Fields left out of the archive: the pages, the maps (analysis.silo3d_rotating.maps)
+# and the orifice tables use the stress tensors' traces, the kinetic and
+# contact pressures, which are kept; the two tensors were half of a rods
+# run's archive (doc/data/README.md, "Size").
+DROPPED_FIELDS = ("kinetic_stress", "contact_stress")
 
 
 def run_label(info):
@@ -44,20 +50,23 @@ def run_label(info):
 
 
 def pack_fields(source, target):
-    """fields.npz with its fields (the arrays `<name>_<window>`) as float32:
-    half the size, the map means changed by < 1e-7 of each field's scale;
-    the grid and windows as they are."""
+    """fields.npz with its fields (the arrays `<name>_<window>`) as float32,
+    those of DROPPED_FIELDS left out: the map means changed by < 1e-7 of
+    each field's scale; the grid and windows as they are. Source and target
+    may be the same file (an archive packed again)."""
     with np.load(source) as stored:
-        arrays = {key: stored[key] for key in stored.files}
+        arrays = {key: stored[key] for key in stored.files
+                  if not (key.rsplit("_", 1)[-1].isdigit() and key.rsplit("_", 1)[0] in DROPPED_FIELDS)}
     for key, values in arrays.items():
         if key.rsplit("_", 1)[-1].isdigit() and values.dtype == np.float64:
             arrays[key] = values.astype(np.float32)
     np.savez_compressed(target, **arrays)
 
 
-def archive(run_dir, archive_dir, analysis_dir=None):
-    """Writes the archive of a finished run (the module's docstring);
-    returns the names of the files it holds."""
+def archive(run_dir, archive_dir, analysis_dir=None, fields=True):
+    """Writes the archive of a finished run (the module's docstring), with
+    the analysis' fields.npz if `fields`; returns the names of the files it
+    holds."""
     run_dir, archive_dir = Path(run_dir), Path(archive_dir)
     if not (run_dir / "run.txt").exists():
         raise ValueError(f"{run_dir}: no run.txt, not a run directory")
@@ -84,7 +93,7 @@ def archive(run_dir, archive_dir, analysis_dir=None):
         for name in ANALYSED:
             if (analysed / name).exists():
                 shutil.copyfile(analysed / name, archive_dir / name)
-        if (analysed / "fields.npz").exists():
+        if fields and (analysed / "fields.npz").exists():
             pack_fields(analysed / "fields.npz", archive_dir / "fields.npz")
     return sorted(path.name for path in archive_dir.iterdir())
 
@@ -99,9 +108,12 @@ def main(argv=None):
     parser.add_argument("--analysis", type=Path, metavar="OUT",
                         help="an analysis.silo3d_rotating --out directory that analysed RUN_DIR: its "
                              "runs/<label>/orifice_timeseries.md and fields.npz go into the archive")
+    parser.add_argument("--no-fields", action="store_true",
+                        help="leave the analysis' fields.npz (the maps) out: a campaign whose pages use "
+                             "the flow rate and the orifice tables only")
     args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     try:
-        names = archive(args.run_dir, args.archive_dir, args.analysis)
+        names = archive(args.run_dir, args.archive_dir, args.analysis, not args.no_fields)
     except ValueError as error:
         print(f"silo3d_archive: ERROR: {error}", file=sys.stderr)
         return 2

@@ -32,10 +32,11 @@ campaign lives in two places of the repository:
                             packings when the campaign's runs are all done.
 
     python3 -m analysis.campaign.silo3d_carry keep RUN_DIR STORE [--dump-cylinder R Z ...]
-            [--analysis OUT] [--carry DIR]
+            [--analysis OUT] [--carry DIR] [--no-fields]
         Archives the finished runs of RUN_DIR that STORE lacks (with the
         tables and fields of OUT/runs/<label>/, OUT being RUN_DIR/analysis
-        by default, when that analysis holds the run), removing their
+        by default, when that analysis holds the run; --no-fields: the
+        tables only, for a campaign that uses no maps), removing their
         carried checkpoint, and carries the last checkpoint of every
         unfinished one, in place of the one carried before. Safe while the
         runs go on (a checkpoint is listed once it is whole, and the
@@ -124,11 +125,11 @@ def drop_carried(carried):
             directory.rmdir()
 
 
-def keep(run_dir, store, more=(), analysis=None, carry=None):
+def keep(run_dir, store, more=(), analysis=None, carry=None, fields=True):
     """Archives or carries each run of run_dir (store: the finished runs'
-    archives; carry: the unfinished ones', carry_dir(store) by default;
-    analysis: an analysis.silo3d_rotating --out directory, run_dir/analysis
-    by default); returns one line per run."""
+    archives, with their maps' fields.npz if `fields`; carry: the unfinished
+    ones', carry_dir(store) by default; analysis: an analysis.silo3d_rotating
+    --out directory, run_dir/analysis by default); returns one line per run."""
     run_dir, store = Path(run_dir), Path(store)
     carry = Path(carry) if carry is not None else carry_dir(store)
     analysis = Path(analysis) if analysis is not None else run_dir / "analysis"
@@ -148,7 +149,7 @@ def keep(run_dir, store, more=(), analysis=None, carry=None):
                         else None)
             partial = archived.with_name(archived.name + ".part")
             shutil.rmtree(partial, ignore_errors=True)
-            names = silo3d_archive.archive(run, partial, analysed)
+            names = silo3d_archive.archive(run, partial, analysed, fields)
             pack_screen(run, partial)
             partial.rename(archived)
             drop_carried(carried)
@@ -276,6 +277,8 @@ def main(argv=None):
     keeping.add_argument("--analysis", type=Path, metavar="OUT",
                          help="the analysis.silo3d_rotating --out directory of the runs [RUN_DIR/analysis]")
     keeping.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
+    keeping.add_argument("--no-fields", action="store_true",
+                         help="archive no fields.npz (the maps): the orifice tables and Q only")
     restoring = actions.add_parser("restore", help="put the store's and the carried runs into a run directory")
     restoring.add_argument("store", type=Path)
     restoring.add_argument("run_dir", type=Path)
@@ -296,7 +299,7 @@ def main(argv=None):
                 if not radius > 0:
                     raise ValueError(f"--dump-cylinder {radius:g} {top:g}: the radius must be > 0 m")
             lines = keep(args.run_dir, args.store, [tuple(c) for c in args.dump_cylinder],
-                         args.analysis, args.carry)
+                         args.analysis, args.carry, not args.no_fields)
         elif args.action == "carry-dir":
             print(carry_dir(args.store))
             return 0

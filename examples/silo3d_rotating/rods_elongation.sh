@@ -54,8 +54,11 @@ stage() {   # stage N -> "aspect seeds frequencies"
     *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-6)" >&2; return 2 ;;
   esac
 }
+# The page uses Q and the orifice averages (the paper's Figs. 2b, 2d, 3
+# and 8), not maps: the archives keep no fields.npz, so that the twelve
+# runs fit doc/data's 30 MB (about 0.1 MB each).
 campaign() {   # campaign ACTION ASPECT SEEDS FS
-  ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" SETTLE_CHECKPOINT=0.25 \
+  KEEP_FIELDS=0 ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" SETTLE_CHECKPOINT=0.25 \
     STORE="$STORES/silo3d_rods_elongation_L$2" \
     bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/L$2"
 }

@@ -34,6 +34,9 @@
 #   STORE      the campaign's store        [doc/data/silo3d_rods_fig2c]
 #   ALSO       finished runs of the same protocol archived elsewhere in the
 #              repository, taken as done   [the four below]
+#   KEEP_FIELDS 1: a finished run's archive keeps its maps (fields.npz);
+#              0: its flow rate and orifice table only (about 0.1 MB a run
+#              instead of 0.4: a campaign whose pages use no maps)   [1]
 #   JOBS [2]; SILOKIT_LIGGGHTS, DECK_VARS, CHECKPOINT, PYTHON go to run.sh
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -56,6 +59,7 @@ CARRIED_PACKINGS="$(analysis analysis.campaign.silo3d_carry carry-dir "$STORE")/
 PACKINGS="${PACKINGS:-}"
 if [ -z "$PACKINGS" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
 SETTLE_CHECKPOINT="${SETTLE_CHECKPOINT:-0}"
+case "${KEEP_FIELDS:-1}" in 0|1) ;; *) echo "rods_fig2c.sh: KEEP_FIELDS is 0 or 1, got: $KEEP_FIELDS" >&2; exit 2 ;; esac
 # the dumps keep the orifice region and the column over the axis (the
 # axial acceleration, analysis.silo3d_rotating.acceleration)
 COLUMN=(--dump-cylinder 0.025 0.2)
@@ -86,7 +90,8 @@ if [ "$ACTION" = keep ]; then
   finished=()
   for run in "$RUN_DIR"/D*_f*_s*; do [ -f "$run/finished" ] && finished+=("$run"); done
   [ ${#finished[@]} = 0 ] || analysis analysis.silo3d_rotating "${finished[@]}" --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
-  analysis analysis.campaign.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}"
+  analysis analysis.campaign.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}" \
+    $([ "${KEEP_FIELDS:-1}" = 0 ] && echo --no-fields)
   exit 0
 fi
 

@@ -26,6 +26,17 @@ Times: the `Loop time` lines of a run summed (the timed deck only), and the
 CPU time of the LIGGGHTS process (start-up and set-up included). The ratio
 t_debian / t_ours is taken within each repetition; above 1 ours is faster.
 
+Instructions (`--instructions`, instead of the times): each deck once per
+binary under valgrind's callgrind, I_debian / I_ours of the instructions
+the timed deck executes (start-up included; its prerequisites run
+uncounted). A count does not depend on the machine's load, where the times
+on a shared machine spread by ±15 % and more; it does not see cache misses
+or branch mispredictions. About 50 times slower than a run: give it a
+small --steps.
+
+The page has two sections, "times" and "instructions"; each run rewrites
+its own and leaves the other as it is.
+
 Generic path: LIGGGHTS warns "The contact model you specified is not located
 in any whitelist" for each pair style or wall whose contact-model
 combination was not specialised at build time. The table counts these
@@ -42,6 +53,7 @@ Writes doc/speed_stock_tutorials.md and bench/results/stock_tutorials.txt
     /usr/bin/python3 bench/stock_tutorials.py --decks cohesion packing --repetitions 9
     /usr/bin/python3 bench/stock_tutorials.py --decks hysteresis --binary ours=build/bin/liggghts \\
         --binary o3=build-o3/bin/liggghts --steps 20000
+    /usr/bin/python3 bench/stock_tutorials.py --instructions --steps 500 --decks sph_1 hydrogel_multicontact
     /usr/bin/python3 bench/stock_tutorials.py --quick               # smoke run, ~1 min
 """
 
@@ -53,11 +65,18 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import benchlib  # noqa: E402
+import callgrind  # noqa: E402
 from stock_speed import DEBIAN, cell, existing_binaries  # noqa: E402
 
 TUTORIALS = Path("/usr/share/doc/liggghts/examples/LIGGGHTS/Tutorials_public")
 WHITELIST_WARNING = "not located in any whitelist"
 PAGE = "speed_stock_tutorials.md"
+PAGE_HEADER = """# Speed on LIGGGHTS' own tutorials: our build against Debian's
+
+Written by `bench/stock_tutorials.py` (see `bench/README.md`); do not edit by
+hand. Two sections: the times of repeated, alternating runs, and the
+instructions each binary executes on the same decks (`--instructions`).
+"""
 
 
 # --- the decks -----------------------------------------------------------
@@ -307,21 +326,28 @@ def first_difference(a, b):
     return None
 
 
-def run_one(root, deck, name, binary, workdir, steps):
+def run_one(root, deck, name, binary, workdir, steps, counted=False):
     """Runs `deck` (after its prerequisites) with one binary; returns a
-    dict: ok, reason, loop (s), cpu (s), steps, atoms, thermo, warnings."""
+    dict: ok, reason, loop (s), cpu (s), steps, atoms, thermo, warnings,
+    and with `counted` (under callgrind) instructions."""
     texts = prepare(root, deck, workdir, steps)
     try:
         for before in prerequisites(root, deck):
             benchlib.run_deck(texts[before][0], workdir, binary=binary)
-        result = benchlib.run_deck(texts[deck][0], workdir, binary=binary)
+        if counted:
+            result = callgrind.run_counted(texts[deck][0], workdir, binary)
+            result["loops"] = [(float(t), int(s), int(a))
+                               for t, _, s, a in benchlib.LOOP_TIME.findall(result["output"])]
+        else:
+            result = benchlib.run_deck(texts[deck][0], workdir, binary=binary)
     except benchlib.LiggghtsFailed as problem:
         return {"ok": False, "reason": failure_reason(problem)}
     loops = result["loops"]
     return {"ok": True, "loop": sum(t for t, _, _ in loops), "cpu": result["cpu"],
             "steps": sum(s for _, s, _ in loops), "atoms": loops[-1][2] if loops else 0,
             "thermo": thermo_rows(result["output"]),
-            "warnings": result["output"].count(WHITELIST_WARNING)}
+            "warnings": result["output"].count(WHITELIST_WARNING),
+            "instructions": result.get("instructions")}
 
 
 def main():
@@ -341,10 +367,19 @@ def main():
     parser.add_argument("--repetitions", type=int, default=5)
     parser.add_argument("--steps", type=int, default=5000,
                         help="at most this many steps per run command (and per loop)")
+    parser.add_argument("--instructions", action="store_true",
+                        help="count instructions under callgrind instead of timing: one run per deck and "
+                             "binary, the page's 'instructions' section")
     args = parser.parse_args()
     if args.quick:
         benchlib.use_smoke_outputs()
         args.repetitions, args.steps = 1, 100
+    if args.instructions:
+        args.repetitions = 1
+        if not shutil.which("valgrind"):
+            sys.exit("--instructions needs valgrind (apt-get install valgrind)")
+    if args.repetitions < 1 or args.steps < 1:
+        sys.exit("--repetitions and --steps must be at least 1")
     if not args.tutorials.is_dir():
         sys.exit(f"{args.tutorials}: no such directory (apt-get install liggghts-doc)")
 
@@ -361,7 +396,8 @@ def main():
     raw = ["# stock_tutorials raw results", "# binaries: " + ", ".join(
         f"{n} {benchlib.binary_identity(binaries[n])}" for n in names),
         f"# tutorials {args.tutorials}, at most {args.steps} steps per run",
-        "# repetition deck binary loop_time_s steps atoms process_cpu_s whitelist_warnings"]
+        "# repetition deck binary loop_time_s steps atoms process_cpu_s whitelist_warnings"
+    + (" instructions" if args.instructions else "")]
     for rep in range(args.repetitions):
         order = names[rep % len(names):] + names[:rep % len(names)]
         for deck in decks:
@@ -369,7 +405,8 @@ def main():
                 if (deck, name) in failed:
                     continue
                 workdir = work / deck.replace("/", "_") / name
-                outcome = run_one(args.tutorials, deck, name, binaries[name], workdir, args.steps)
+                outcome = run_one(args.tutorials, deck, name, binaries[name], workdir, args.steps,
+                                  args.instructions)
                 if not outcome["ok"]:
                     failed[(deck, name)] = outcome["reason"]
                     raw.append(f"{rep} {deck} {name} failed: {outcome['reason']}")
@@ -377,17 +414,21 @@ def main():
                                       f"failed: {outcome['reason']}")
                     continue
                 results[(deck, name)].append(outcome)
+                counted = f" {outcome['instructions']}" if args.instructions else ""
                 raw.append(f"{rep} {deck} {name} {outcome['loop']:.6g} {outcome['steps']} "
-                           f"{outcome['atoms']} {outcome['cpu']:.4g} {outcome['warnings']}")
+                           f"{outcome['atoms']} {outcome['cpu']:.4g} {outcome['warnings']}{counted}")
                 benchlib.progress(f"repetition {rep + 1}/{args.repetitions} {deck} {name}: loop time "
                                   f"{outcome['loop']:.4g} s, {outcome['steps']} steps, "
-                                  f"{outcome['atoms']} atoms, {outcome['warnings']} whitelist warnings")
+                                  f"{outcome['atoms']} atoms, {outcome['warnings']} whitelist warnings"
+                                  + (f", {outcome['instructions']:.4e} instructions" if counted else ""))
 
-    page = report(args, decks, names, binaries, results, failed, start_load)
+    section = "instructions" if args.instructions else "times"
+    page = (instructions_report if args.instructions else report)(
+        args, decks, names, binaries, results, failed, start_load)
     page_path = (benchlib.WORK / "quick" if args.quick else benchlib.ROOT / "doc") / PAGE
-    page_path.parent.mkdir(parents=True, exist_ok=True)
-    page_path.write_text(page)
-    path = benchlib.write_raw("stock_tutorials", "\n".join(raw) + "\n\n" + page)
+    benchlib.write_page_section(page_path, section, page, PAGE_HEADER)
+    path = benchlib.write_raw("stock_tutorials" + ("_instructions" if args.instructions else ""),
+                              "\n".join(raw) + "\n\n" + page)
     benchlib.progress(f"wrote {page_path.relative_to(benchlib.ROOT)} and "
                       f"{path.relative_to(benchlib.ROOT)}")
     print(page)
@@ -399,9 +440,8 @@ def report(args, decks, names, binaries, results, failed, start_load):
     src = source_tree(binaries[ours])
     specialised, enum_names = compiled(src), model_names(src)
     lines = [
-        "# Speed on LIGGGHTS' own tutorials: our build against Debian's",
+        "## Times",
         "",
-        "Written by `bench/stock_tutorials.py` (see `bench/README.md`); do not edit by hand.",
         f"Each tutorial deck of Debian's `liggghts-doc` ({args.tutorials}) runs with "
         + ", ".join(f"**{n}** {benchlib.binary_identity(binaries[n])}" for n in names)
         + f", alternately (the order rotates), {args.repetitions} repetition"
@@ -463,7 +503,7 @@ def report(args, decks, names, binaries, results, failed, start_load):
         steps = str(sample[0]["steps"]) if sample else "—"
         lines.append(f"| {deck} | {atoms} | {steps} | {finished} | {thermo} | "
                      + " | ".join(ratios) + f" | {generic} |")
-    lines += ["", "## Contact-model combinations not specialised in " + ours, ""]
+    lines += ["", "### Contact-model combinations not specialised in " + ours, ""]
     if specialised is None:
         lines.append(f"Unknown: no LIGGGHTS source tree next to {binaries[ours]}.")
     elif not missing_all:
@@ -473,7 +513,14 @@ def report(args, decks, names, binaries, results, failed, start_load):
                      "specialise one, and the decks that use it:")
         lines.append("")
         lines += [f"- `{gran_model(c)}`: " + ", ".join(ds) for c, ds in missing_all.items()]
-    lines += ["", "## How the decks were shortened", ""]
+    lines += ["", "### How the decks were shortened", ""] + shortening(args, decks)
+    lines += ["", benchlib.provenance(extra_load=start_load), ""]
+    return "\n".join(lines)
+
+
+def shortening(args, decks):
+    """One markdown line per deck (and prerequisite): its changed lines."""
+    lines = []
     for deck in decks:
         directory = Path(args.tutorials)
         for name in prerequisites(directory, deck) + [deck]:
@@ -484,6 +531,40 @@ def report(args, decks, names, binaries, results, failed, start_load):
                     f"line {n} `{old}` → {new}" for n, old, new in changes))
             else:
                 lines.append(f"- {label}: unchanged")
+    return lines
+
+
+def instructions_report(args, decks, names, binaries, results, failed, start_load):
+    """The 'instructions' section: per deck the instructions each binary
+    executed and I_debian / I_build (above 1 the build executes fewer)."""
+    builds = [n for n in names if n != DEBIAN]
+    lines = [
+        "## Instructions",
+        "",
+        "Each deck once per binary under valgrind's callgrind ("
+        + ", ".join(f"**{n}** {benchlib.binary_identity(binaries[n])}" for n in names)
+        + f"); every `run` cut to at most {args.steps} steps, the same deck text for every binary. "
+        "Instructions of the whole process (start-up and set-up included; a deck's prerequisite "
+        "runs uncounted); I_debian / I_build above 1: the build executes fewer. Counts do not "
+        "depend on the machine's load; they do not see cache misses or branch mispredictions.",
+        "",
+        "| deck | atoms | steps | thermo | " + " | ".join(f"I_{n} (10⁹)" for n in names) + " | "
+        + " | ".join(f"I_debian / I_{n}" for n in builds) + " |",
+        "|---|---|---|---|" + "---|" * (len(names) + len(builds)),
+    ]
+    for deck in decks:
+        why = [f"{n}: {failed[(deck, n)]}" for n in names if (deck, n) in failed]
+        if why:
+            lines.append(f"| {deck} | — | — | failed ({'; '.join(why)}) |" + " — |" * (len(names) + len(builds)))
+            continue
+        runs = {n: results[(deck, n)][0] for n in names}
+        differences = [n for n in builds if first_difference(runs[n]["thermo"], runs[DEBIAN]["thermo"])]
+        thermo = "identical" if not differences else "differs in " + ", ".join(differences)
+        counts = {n: runs[n]["instructions"] for n in names}
+        lines.append(f"| {deck} | {runs[DEBIAN]['atoms']} | {runs[DEBIAN]['steps']} | {thermo} | "
+                     + " | ".join(f"{counts[n] / 1e9:.3f}" for n in names) + " | "
+                     + " | ".join(f"{counts[DEBIAN] / counts[n]:.4f}" for n in builds) + " |")
+    lines += ["", "### How the decks were shortened", ""] + shortening(args, decks)
     lines += ["", benchlib.provenance(extra_load=start_load), ""]
     return "\n".join(lines)
 

@@ -114,7 +114,7 @@ def test_quick_build_reaches_equilibrium_and_records_it(quick_pile):
     assert (record["dt_fraction"], record["damping"], record["rolling_damping"]) == (25, 0.3, 0.3)
     columns = read_dump(workdir / "pile.restart.dump")[-1][1]
     free = columns["type"] == 1
-    substrate = check_substrate(columns)
+    check_substrate(columns)
     # discs: mass pi r^2 rho = d^2 / d_max^2 (set density/disc, insert/rain2d)
     d = 2 * columns["radius"]
     np.testing.assert_allclose(columns["mass"], (d / 1.05) ** 2, rtol=1e-12)

@@ -41,9 +41,6 @@ Trajectories, frames every 200 steps (%g, 6 digits: 1e-7 m = 3.2e-6 d):
   step 600 and 1.2e-2 d at step 3000.
 """
 
-import math
-from pathlib import Path
-
 import numpy as np
 import pytest
 

@@ -426,7 +426,7 @@ BAD = [
     ("friction 0.5 zplane 0", ["normal is required"]),
     (f"normal hooke/stiffness {KN} {KT} 100 50 zplane 0", ["friction is required"]),
     (f"normal hooke/stiffness 0 {KT} 100 50 friction 0.5 zplane 0", ["kn must be > 0"]),
-    (f"normal hertz 1 2 3 4 friction 0.5 zplane 0", ["unknown normal model 'hertz'"]),
+    ("normal hertz 1 2 3 4 friction 0.5 zplane 0", ["unknown normal model 'hertz'"]),
     (f"{WALL_LAW} limit_force maybe zplane 0", ["limit_force expects yes or no"]),
     (f"{WALL_LAW} rolling sds 1 1 lc 0.001 zplane 0", ["unknown rolling model 'sds'"]),
     (f"{WALL_LAW} rolling jiang 1 1 0.001 zplane 0", ["followed by lc, got '0.001'"]),

@@ -12,7 +12,7 @@ import pytest
 
 from analysis.silo3d_rotating import orifice_plug as plug
 from analysis.common.tables import read_table
-from test_silo3d_acceleration import D, dump_frame, write_run_records
+from test_silo3d_acceleration import dump_frame, write_run_records
 
 DT = 1e-5
 T_OPEN = 0.1

@@ -240,6 +240,12 @@ def spread_cell(values, digits=3):
     return f"{median:.{digits}g} [{low:.{digits}g}–{high:.{digits}g}]"
 
 
+def ratio_cell(values):
+    """A ratio near 1 with three decimals (`:.3g` would print 1.005 as 1)."""
+    median, low, high = benchlib.spread(values)
+    return f"{median:.3f} [{low:.3f}–{high:.3f}]"
+
+
 def lammps_identity():
     """`lmp` is a launcher: LAMMPS is the liblammps.so.0 beside it in ../lib."""
     library = LMP.resolve().parent.parent / "lib" / "liblammps.so.0"
@@ -291,7 +297,7 @@ def report(all_scenes, results, prepared, args, start_load):
                 f"| {spread_cell([r['cpu'] for r in runs])} "
                 f"| {spread_cell([r['cpu'] / r['simulated'] for r in runs])} "
                 f"| {spread_cell([1e6 * r['cpu'] / r['steps'] for r in runs])} "
-                f"| {spread_cell(ratios) if k == 0 else ''} |")
+                f"| {ratio_cell(ratios) if k == 0 else ''} |")
     lines += ["", "Scenes:"]
     for scene in all_scenes:
         commands = "; ".join(

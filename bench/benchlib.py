@@ -192,6 +192,8 @@ def binary_identity(binary):
     """Path, modification time and sha256 prefix: the binary can be rebuilt
     between two benchmark runs."""
     shown = shown_path(binary)
+    if not Path(binary).exists():
+        return f"`{shown}` (not built)"    # e.g. provenance() of a bench that ran only other binaries
     stamp = datetime.datetime.fromtimestamp(binary.stat().st_mtime).astimezone()
     digest = hashlib.sha256(binary.read_bytes()).hexdigest()[:12]
     return (f"`{shown}` built {stamp.strftime('%Y-%m-%d %H:%M %Z')}, sha256 {digest}…"

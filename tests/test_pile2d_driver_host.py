@@ -59,6 +59,22 @@ def test_a_campaign_keeps_its_host(tmp_path):
                         "--seed-list", str(SEED)]) == 2
 
 
+def test_a_campaign_from_before_the_switch_is_liggghts(tmp_path):
+    """A campaign with a built pile and no host.txt was LIGGGHTS' (its
+    restart files are): --host lammps must not take it over."""
+    (tmp_path / "piles.txt").write_text(driver.PILES_HEADER + "\n"
+                                        "fixed 20.0 2 331 14.1 14 350 2.5 3.4 1 25 0.3 0.3 p.restart 0.1 0.05\n")
+    assert driver.main(["--host", "lammps", "--campaign", str(tmp_path), "--L", "20", "--models", "fixed",
+                        "--seed-list", str(SEED)]) == 2
+    assert (tmp_path / "host.txt").read_text() == "liggghts\n"
+    # a campaign directory without a pile yet is anyone's
+    fresh = tmp_path / "fresh"
+    fresh.mkdir()
+    (fresh / "piles.txt").write_text(driver.PILES_HEADER + "\n")
+    driver.claim_campaign_host(fresh, "lammps")
+    assert (fresh / "host.txt").read_text() == "lammps\n"
+
+
 def liggghts_line(model, length, w, seed):
     for line in (ROOT / "doc" / "data" / "pile2d_discharges.txt").read_text().splitlines():
         words = line.split()

@@ -21,7 +21,8 @@ and `-var plugin $SILOKIT_LAMMPS_PLUGIN` when that is set; doc/pile2d.md,
 "LAMMPS"): the same records, so the analysis reads either. A campaign holds
 one host's piles (each host reads only its own restart files): its host is
 written to OUT/host.txt on the first run and a later run with the other one
-is refused.
+is refused; a campaign with piles and no host.txt was run, before the
+switch existed, by LIGGGHTS.
 
 Files in OUT: piles.txt (one line per pile), discharges.txt (one line per
 discharge; the deck appends it, flushed), piles/*.restart, logs/*.txt.
@@ -94,6 +95,17 @@ def row_key(row, key_columns):
 def read_records(path, key_columns):
     """Set of key tuples of the lines of a record file."""
     return {row_key(row, key_columns) for row in read_rows(path, text=True, missing_ok=True)}
+
+
+def claim_campaign_host(out, host):
+    """The campaign's host in OUT/host.txt (hosts.claim_host: ValueError
+    for the other host). A campaign with piles but no host.txt was run
+    before --host existed, by LIGGGHTS (its restart files are LIGGGHTS'):
+    its host is written first."""
+    out = Path(out)
+    if not (out / "host.txt").exists() and read_records(out / "piles.txt", ("model", "L", "seed")):
+        (out / "host.txt").write_text("liggghts\n")
+    hosts.claim_host(out, host)
 
 
 def pile_name(model, length, seed):
@@ -235,7 +247,7 @@ class Runner:
         a = self.args
         (self.out / "piles").mkdir(parents=True, exist_ok=True)
         (self.out / "logs").mkdir(parents=True, exist_ok=True)
-        hosts.claim_host(self.out, a.host)
+        claim_campaign_host(self.out, a.host)
         ensure_header(self.piles_file, PILES_HEADER)
         ensure_header(self.results_file, DISCHARGES_HEADER)
         # the records do not carry every deck variable (--var): each

@@ -49,12 +49,12 @@ from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_rows
 from analysis.pile2d.discharges import mean_std_ci
 from analysis.common.cli import command_line
+from analysis.common.hosts import LIGGGHTS_BINARY
 
 ROOT = Path(__file__).resolve().parents[2]
 # a frozen copy of the decks for a long campaign (LIGGGHTS reads a deck as it
 # runs, and every run of the ensemble must use the same one)
 INPUTS = Path(os.environ.get("SILOKIT_INPUTS", ROOT / "inputs"))
-BINARY = Path(os.environ.get("SILOKIT_LIGGGHTS", ROOT / "build" / "bin" / "liggghts"))
 # deck variables a pile was built with, from its piles.txt line (default
 # when an older record lacks the column)
 BUILD_VARIABLES = {"model": None, "L": None, "seed": None, "damping": 0.3, "rolling_damping": 0.3,
@@ -159,7 +159,7 @@ def run_on(run_dir, factor, lengths=None, jobs=1):
         variables.update({"pile": pile_path(run_dir, row), "runon": record, "inputs": INPUTS,
                           "time": f"{factor * (row['t_end'] - row['t_rain']):.6g}"})
         name = f"{row['model']}_L{row['L']:g}_s{int(row['seed'])}"
-        command = ["stdbuf", "-oL", str(BINARY), "-in", str(INPUTS / "pile2d" / "in.runon"), "-log", "none"]
+        command = ["stdbuf", "-oL", str(LIGGGHTS_BINARY), "-in", str(INPUTS / "pile2d" / "in.runon"), "-log", "none"]
         for key, value in variables.items():
             command += ["-var", key, str(value)]
         with open(run_dir / "logs" / f"runon_{name}.txt", "w") as handle:

@@ -1,6 +1,6 @@
-"""The open 2D pile's decks for LAMMPS (inputs/pile2d/in.build.lammps and
-in.discharge.lammps, doc/pile2d.md "LAMMPS"), in their quick variant
-(L = 20 d), run by our lmp with the plugin:
+"""The open 2D pile's decks for LAMMPS (inputs/pile2d/in.build.lammps,
+in.discharge.lammps and in.runon.lammps, doc/pile2d.md "LAMMPS"), in
+their quick variant (L = 20 d), run by our lmp with the plugin:
 
 - the quick build finishes in equilibrium and writes a piles.txt line
   whose header and columns are LIGGGHTS' (the same file, text for text:
@@ -27,7 +27,11 @@ in.discharge.lammps, doc/pile2d.md "LAMMPS"), in their quick variant
 - the discharge reads the built pile (a LAMMPS restart file), opens the
   orifice and writes its record, a jam at 1 d (the same record as
   LIGGGHTS') and a collapse at 8 d;
-- a LIGGGHTS-only switch (vtk_every) or a bad value stops either deck
+- the run-on check (in.runon.lammps) reads the built pile and runs it on,
+  unchanged, for 10 times its relaxation: it stays (what LIGGGHTS' test of
+  in.runon asserts), and LIGGGHTS' in.runon on its pile of the same seed
+  writes the same line, text for text;
+- a LIGGGHTS-only switch (vtk_every) or a bad value stops any of the decks
   with an ERROR naming it.
 """
 
@@ -81,6 +85,20 @@ def discharge(deck, workdir, pile_dir, w, model="fixed", binary=None):
     else:
         run_deck(DECKS / deck, workdir, binary=binary, variables=variables, timeout=900)
     return read_rows(Path(workdir) / "discharges.txt")[-1]
+
+
+def run_on(deck, workdir, pile_dir, pile, binary=None):
+    """Runs the pile of pile_dir (its piles.txt line `pile`) on for 10
+    times its relaxation (t_end - t_rain), as tests/test_pile2d_deck.py
+    does in LIGGGHTS; returns the runon.txt line."""
+    variables = {"model": pile["model"], "L": L, "seed": SEED, "inputs": INPUTS,
+                 "pile": Path(pile_dir) / "pile.restart", "runon": "runon.txt",
+                 "time": 10 * (pile["t_end"] - pile["t_rain"])}
+    if binary is None:
+        run_lammps(DECKS / deck, workdir, variables=variables, timeout=900)
+    else:
+        run_deck(DECKS / deck, workdir, binary=binary, variables=variables, timeout=900)
+    return read_rows(Path(workdir) / "runon.txt")[-1]
 
 
 def by_id(columns):
@@ -247,6 +265,36 @@ def test_discharge_collapses_at_eight_diameters(quick_pile, tmp_path):
     check_equilibrium(columns)
 
 
+def test_pile_stays_when_run_on_as_in_liggghts(quick_pile, tmp_path):
+    """in.runon.lammps on the quick pile: LIGGGHTS' test of in.runon
+    (test_pile_declared_in_equilibrium_stays_when_run_on) with its
+    tolerances: no grain lost, h0 the same within 1e-3 d, no grain moved
+    more than 1e-2 d, the equilibrium criteria still hold. Then LIGGGHTS'
+    in.runon on its own pile of the same seed (the same pile to the bit:
+    above): the same runon.txt, header and line, text for text (measured:
+    165540 steps, h0 4.91422611473235 -> 4.91422301756493 d, largest
+    displacement 3.36e-5 d in both hosts)."""
+    pile_dir, _, pile = quick_pile
+    record = run_on("in.runon.lammps", tmp_path / "lammps", pile_dir, pile)
+    header = (tmp_path / "lammps" / "runon.txt").read_text().splitlines()[0]
+    assert header == ("# model L seed time n_before n_after h0_before h0_after "
+                      "max_displacement max_speed status")
+    assert record["model"] == "fixed" and record["L"] == L and record["seed"] == SEED
+    assert record["time"] == pytest.approx(10 * (pile["t_end"] - pile["t_rain"]), rel=1e-6)
+    assert record["n_before"] == pile["n_pile"] == record["n_after"]
+    assert record["h0_before"] == pytest.approx(pile["h0"], abs=1e-9)
+    assert abs(record["h0_after"] - record["h0_before"]) < 1e-3
+    # the grains do creep a little (the criteria allow speeds up to 1e-4):
+    # a displacement of exactly 0 would mean displace/atom measured nothing
+    assert 0 < record["max_displacement"] < 1e-2
+    assert record["status"] == 1 and record["max_speed"] < 1e-4
+    liggghts_build(tmp_path / "liggghts_pile")
+    run_on("in.runon", tmp_path / "liggghts", tmp_path / "liggghts_pile", pile,
+           binary=liggghts_binary())
+    assert ((tmp_path / "lammps" / "runon.txt").read_text()
+            == (tmp_path / "liggghts" / "runon.txt").read_text())
+
+
 @pytest.mark.parametrize("deck, variables, says", [
     ("in.build.lammps", {"vtk_every": 100}, "vtk_every has no meaning in LAMMPS"),
     ("in.discharge.lammps", {"vtk_every": 100}, "vtk_every has no meaning in LAMMPS"),
@@ -258,6 +306,7 @@ def test_discharge_collapses_at_eight_diameters(quick_pile, tmp_path):
     ("in.build.lammps", {"l_c": 0.6}, "l_c = 0.6 must be in (0, 0.5 d]"),
     ("in.build.lammps", {"substrate_lc": 0.2}, "substrate_lc = 0.2 must be in [0, 0.1 d]"),
     ("in.discharge.lammps", {"w": 0}, "w = 0 must be > 0"),
+    ("in.runon.lammps", {"time": 0}, "in.runon.lammps: time = 0 must be > 0"),
 ])
 def test_bad_input_is_refused_naming_it(deck, variables, says, tmp_path):
     with pytest.raises(LiggghtsError) as error:
@@ -266,4 +315,5 @@ def test_bad_input_is_refused_naming_it(deck, variables, says, tmp_path):
                               "pile": tmp_path / "none.restart", **variables})
     assert error.value.message.startswith("ERROR")
     assert says in error.value.message, error.value.message
-    assert not (tmp_path / "piles.txt").exists()
+    for record in ("piles.txt", "discharges.txt", "runon.txt"):
+        assert not (tmp_path / record).exists()

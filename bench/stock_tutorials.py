@@ -35,7 +35,11 @@ or branch mispredictions. About 50 times slower than a run: give it a
 small --steps.
 
 The page has two sections, "times" and "instructions"; each run rewrites
-its own and leaves the other as it is.
+its own and leaves the other as it is. `--section NAME` writes a section of
+its own instead (a few decks measured again, beside the full tables).
+`--cpu N` runs every binary on core N: on a machine shared with a
+campaign, pin the campaign to the other core, and the binaries compare on
+a core nothing else of ours is scheduled onto.
 
 Generic path: LIGGGHTS warns "The contact model you specified is not located
 in any whitelist" for each pair style or wall whose contact-model
@@ -54,10 +58,12 @@ Writes doc/speed_stock_tutorials.md and bench/results/stock_tutorials.txt
     /usr/bin/python3 bench/stock_tutorials.py --decks hysteresis --binary ours=build/bin/liggghts \\
         --binary o3=build-o3/bin/liggghts --steps 20000
     /usr/bin/python3 bench/stock_tutorials.py --instructions --steps 500 --decks sph_1 hydrogel_multicontact
+    /usr/bin/python3 bench/stock_tutorials.py --decks sph_1 mesh_tet --cpu 1 --section again --repetitions 9
     /usr/bin/python3 bench/stock_tutorials.py --quick               # smoke run, ~1 min
 """
 
 import argparse
+import os
 import re
 import shutil
 import sys
@@ -367,6 +373,12 @@ def main():
     parser.add_argument("--repetitions", type=int, default=5)
     parser.add_argument("--steps", type=int, default=5000,
                         help="at most this many steps per run command (and per loop)")
+    parser.add_argument("--section", metavar="NAME",
+                        help="the page's section to write [times, or instructions]: another name keeps "
+                             "the full tables and adds this run's (e.g. a few decks measured again)")
+    parser.add_argument("--cpu", type=int, metavar="N",
+                        help="run every binary on core N only (os.sched_setaffinity), so that the "
+                             "binaries share one core and nothing else is scheduled onto it by us")
     parser.add_argument("--instructions", action="store_true",
                         help="count instructions under callgrind instead of timing: one run per deck and "
                              "binary, the page's 'instructions' section")
@@ -380,6 +392,12 @@ def main():
             sys.exit("--instructions needs valgrind (apt-get install valgrind)")
     if args.repetitions < 1 or args.steps < 1:
         sys.exit("--repetitions and --steps must be at least 1")
+    if args.section is not None and not re.fullmatch(r"[a-z0-9_]+", args.section):
+        sys.exit(f"--section {args.section!r}: lower-case letters, digits and _ only")
+    if args.cpu is not None:
+        if args.cpu not in os.sched_getaffinity(0):
+            sys.exit(f"--cpu {args.cpu}: not one of this process' cores {sorted(os.sched_getaffinity(0))}")
+        os.sched_setaffinity(0, {args.cpu})      # the engines inherit it
     if not args.tutorials.is_dir():
         sys.exit(f"{args.tutorials}: no such directory (apt-get install liggghts-doc)")
 
@@ -422,7 +440,7 @@ def main():
                                   f"{outcome['atoms']} atoms, {outcome['warnings']} whitelist warnings"
                                   + (f", {outcome['instructions']:.4e} instructions" if counted else ""))
 
-    section = "instructions" if args.instructions else "times"
+    section = args.section or ("instructions" if args.instructions else "times")
     page = (instructions_report if args.instructions else report)(
         args, decks, names, binaries, results, failed, start_load)
     page_path = (benchlib.WORK / "quick" if args.quick else benchlib.ROOT / "doc") / PAGE
@@ -440,11 +458,11 @@ def report(args, decks, names, binaries, results, failed, start_load):
     src = source_tree(binaries[ours])
     specialised, enum_names = compiled(src), model_names(src)
     lines = [
-        "## Times",
+        "## Times" + (f" (`--section {args.section}`)" if args.section else ""),
         "",
         f"Each tutorial deck of Debian's `liggghts-doc` ({args.tutorials}) runs with "
         + ", ".join(f"**{n}** {benchlib.binary_identity(binaries[n])}" for n in names)
-        + f", alternately (the order rotates), {args.repetitions} repetition"
+        + f", alternately (the order rotates){pinned(args)}, {args.repetitions} repetition"
         + ("s" if args.repetitions > 1 else "") + f"; every `run` is cut to at most {args.steps} "
         "steps, the same deck text for every binary (changes listed below).",
         "",
@@ -518,6 +536,10 @@ def report(args, decks, names, binaries, results, failed, start_load):
     return "\n".join(lines)
 
 
+def pinned(args):
+    return f", all on core {args.cpu} (--cpu)" if args.cpu is not None else ""
+
+
 def shortening(args, decks):
     """One markdown line per deck (and prerequisite): its changed lines."""
     lines = []
@@ -539,7 +561,7 @@ def instructions_report(args, decks, names, binaries, results, failed, start_loa
     executed and I_debian / I_build (above 1 the build executes fewer)."""
     builds = [n for n in names if n != DEBIAN]
     lines = [
-        "## Instructions",
+        "## Instructions" + (f" (`--section {args.section}`)" if args.section else ""),
         "",
         "Each deck once per binary under valgrind's callgrind ("
         + ", ".join(f"**{n}** {benchlib.binary_identity(binaries[n])}" for n in names)

@@ -445,7 +445,7 @@ def main():
         args, decks, names, binaries, results, failed, start_load)
     page_path = (benchlib.WORK / "quick" if args.quick else benchlib.ROOT / "doc") / PAGE
     benchlib.write_page_section(page_path, section, page, PAGE_HEADER)
-    path = benchlib.write_raw("stock_tutorials" + ("_instructions" if args.instructions else ""),
+    path = benchlib.write_raw("stock_tutorials" + ("" if section == "times" else f"_{section}"),
                               "\n".join(raw) + "\n\n" + page)
     benchlib.progress(f"wrote {page_path.relative_to(benchlib.ROOT)} and "
                       f"{path.relative_to(benchlib.ROOT)}")

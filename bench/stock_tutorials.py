@@ -50,8 +50,9 @@ build tree, build/liggghts/src/ for ours), in the GRAN_MODEL(...) spelling
 of src_plugin/liggghts/style_contact_model_user.whitelist. (LIGGGHTS' warning does
 not name the combination.)
 
-Writes doc/speed_stock_tutorials.md and bench/results/stock_tutorials.txt
-(with --quick: bench/work/quick/ instead).
+Writes its section of doc/speed_stock_tutorials.md and the raw numbers in
+bench/results/stock_tutorials.txt (another section's:
+stock_tutorials_<section>.txt); with --quick, under bench/work/quick/.
 
     /usr/bin/python3 bench/stock_tutorials.py                       # every deck, 5 repetitions
     /usr/bin/python3 bench/stock_tutorials.py --decks cohesion packing --repetitions 9

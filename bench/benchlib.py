@@ -148,12 +148,24 @@ def machine():
     }
 
 
-def git_commit():
+def _head():
     try:
         return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
                               capture_output=True, text=True).stdout.strip() or "unknown"
     except OSError:
         return "unknown"
+
+
+# read when the bench starts: a long bench may end after later commits, and
+# its record names the commit whose code ran
+_COMMIT_AT_START = _head()
+
+
+def git_commit():
+    """The commit checked out when this bench started (its code ran), and
+    the one checked out now if that differs."""
+    now = _head()
+    return _COMMIT_AT_START if now == _COMMIT_AT_START else f"{_COMMIT_AT_START} (HEAD at the end: {now})"
 
 
 def command_line():

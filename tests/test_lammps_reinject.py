@@ -58,7 +58,7 @@ def rain_deck(host="lammps", steps=6000, fix_line=FIX_LINE, processors="", dump_
     """The rain in `host` (lammps or liggghts): the same grains, contact
     law, region, fix reinject line, thermo and dump."""
     if host == "lammps":
-        head = f"""plugin load ${{plugin}}
+        head = """plugin load ${plugin}
 units si
 atom_style sphere
 atom_modify map array

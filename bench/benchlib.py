@@ -65,12 +65,16 @@ def run_deck(deck, workdir, binary=OUR_BINARY):
         raise LiggghtsFailed(f"{binary} failed in {workdir}: "
                              f"{errors[0] if errors else 'exit code %d' % process.returncode}\n"
                              f"{_error_context(command, workdir)}")
-    loops = [(float(t), int(steps), int(atoms))
-             for t, procs, steps, atoms in LOOP_TIME.findall(output)]
+    loops = loop_lines(output)
     # the pair part of each run's loop time (LIGGGHTS' timing breakdown)
     pair_times = [float(t) for t in PAIR_TIME.findall(output)]
     return {"output": output, "loops": loops, "pair_times": pair_times, "cpu": cpu,
             "wall": wall}
+
+
+def loop_lines(output):
+    """(seconds, steps, atoms) of each `Loop time` line of a LIGGGHTS screen output."""
+    return [(float(t), int(steps), int(atoms)) for t, procs, steps, atoms in LOOP_TIME.findall(output)]
 
 
 def _error_context(command, workdir):

@@ -343,8 +343,7 @@ def run_one(root, deck, name, binary, workdir, steps, counted=False):
             benchlib.run_deck(texts[before][0], workdir, binary=binary)
         if counted:
             result = callgrind.run_counted(texts[deck][0], workdir, binary)
-            result["loops"] = [(float(t), int(s), int(a))
-                               for t, _, s, a in benchlib.LOOP_TIME.findall(result["output"])]
+            result["loops"] = benchlib.loop_lines(result["output"])
         else:
             result = benchlib.run_deck(texts[deck][0], workdir, binary=binary)
     except benchlib.LiggghtsFailed as problem:

@@ -54,11 +54,15 @@ def engine_command(host, deck_path, variables, mpi=1, nice=0, binary=None, optio
     return command
 
 
-def claim_host(out, host):
+def claim_host(out, host, has_runs=False):
     """Writes the campaign's host to OUT/host.txt, or raises ValueError
     when the campaign was run with the other host (its restart files are
-    that host's, and its records would mix the two)."""
+    that host's, and its records would mix the two). has_runs: the
+    campaign already holds runs; without host.txt they were made before
+    --host existed, by LIGGGHTS, whose host is written first."""
     path = Path(out) / "host.txt"
+    if has_runs and not path.exists():
+        path.write_text("liggghts\n")
     if path.exists():
         recorded = path.read_text().strip()
         if recorded != host:

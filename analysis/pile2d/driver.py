@@ -102,10 +102,7 @@ def claim_campaign_host(out, host):
     for the other host). A campaign with piles but no host.txt was run
     before --host existed, by LIGGGHTS (its restart files are LIGGGHTS'):
     its host is written first."""
-    out = Path(out)
-    if not (out / "host.txt").exists() and read_records(out / "piles.txt", ("model", "L", "seed")):
-        (out / "host.txt").write_text("liggghts\n")
-    hosts.claim_host(out, host)
+    hosts.claim_host(out, host, has_runs=bool(read_records(Path(out) / "piles.txt", ("model", "L", "seed"))))
 
 
 def pile_name(model, length, seed):

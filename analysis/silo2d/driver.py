@@ -160,10 +160,8 @@ def claim_campaign_host(out, host):
     for the other host). A campaign that has segments but no host.txt was
     run before --host existed, by LIGGGHTS: its host is written first."""
     out = Path(out)
-    if not (out / "host.txt").exists() and any(
-            completed_segments(run) for run in out.glob("mu*") if run.is_dir()):
-        (out / "host.txt").write_text("liggghts\n")
-    hosts.claim_host(out, host)
+    hosts.claim_host(out, host, has_runs=any(
+        completed_segments(run) for run in out.glob("mu*") if run.is_dir()))
 
 
 def remove_old_restart_files(directory, segment):

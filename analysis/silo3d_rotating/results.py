@@ -170,6 +170,18 @@ def paired(data_dir, f, f_ref, window, packings=PACKINGS):
     return combine(parts)
 
 
+def spheres_paired(data_dir, D, f, f_ref, window=(0.5, 2)):
+    """The spheres' Q(f)/Q(f_ref) at orifice D (mm), per packing whose two
+    2 s runs both flow over the window, combined (combine)."""
+    parts = []
+    for seed in PACKINGS.values():
+        a = window_rate(data_dir / SPHERES[D, f, seed], *window)
+        b = window_rate(data_dir / SPHERES[D, f_ref, seed], *window)
+        if a is not None and b is not None:
+            parts.append((seed, *ratio_of(a, b)))
+    return combine(parts)
+
+
 def frequency_rates(data_dir, window):
     """{f: [(packing, Rate)]} over one window, the runs that reach its end
     with a flow in it."""
@@ -389,20 +401,12 @@ def results_rows(data_dir=DATA_DIR):
 
     # spheres: Q barely changes with f (paper: "a slight increase ... below
     # D = 48 mm", "≈ 5 % initial drop then ≈ 5 % increase" above)
-    r60 = combine([(seed, *ratio_of(window_rate(data_dir / SPHERES[60, 0.32, seed], 0.5, 2),
-                                    window_rate(data_dir / SPHERES[60, 0.0, seed], 0.5, 2)))
-                   for seed in PACKINGS.values()])
+    r60 = spheres_paired(data_dir, 60, 0.32, 0.0)
     rows.append(Row("spheres, D = 60 mm: Q(0.32 Hz)/Q(0) − 1",
                     "a weak non-monotonic change (≈ 5 % drop, then ≈ 5 % rise)",
                     f"{_pct(r60.value - 1, r60.se)} ({r60.n} packings)", "0.5–2 s, both runs", "agrees",
                     PAGE_SECTIONS["spheres"], headline=True))
-    parts = []
-    for seed in PACKINGS.values():
-        a = window_rate(data_dir / SPHERES[42, 1.28, seed], 0.5, 2)
-        b = window_rate(data_dir / SPHERES[42, 0.0, seed], 0.5, 2)
-        if a is not None and b is not None:
-            parts.append((seed, *ratio_of(a, b)))
-    r42 = combine(parts)
+    r42 = spheres_paired(data_dir, 42, 1.28, 0.0)
     rows.append(Row("spheres, D = 42 mm: Q(1.28 Hz)/Q(0) − 1",
                     "a slight increase with f below D = 48 mm; rotation makes a clogging silo flow",
                     f"{_pct(r42.value - 1, r42.se)} ({r42.n} packings; the 3rd clogs at rest and flows at 1.28 Hz)",

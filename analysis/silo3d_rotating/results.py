@@ -84,6 +84,7 @@ PAGE_SECTIONS = {
     "spheres": "spheres-q-barely-changes",
     "drop": "rods-a-slow-rotation-cuts-q",
     "rise": "rods-q-rises-again-at-fast-rotation",
+    "elongation": "elongation-ld--25-and-40",
     "orifice": "rods-qd-at-rest-the-exponential-above-60-mm",
     "acceleration": "rods-the-accelerating-region-shrinks-fig-10",
     "order": "rods-orientation-at-the-orifice-fig-9",
@@ -96,6 +97,7 @@ class Rate:
     se: float         # block standard error
     t_from: float
     t_to: float
+    flow: object = None     # its FlowRate: the samples it lies between and the gaps cut out
 
 
 @dataclass
@@ -129,7 +131,7 @@ def window_rate(run_dir, t_from, t_to, blocks=BLOCKS):
     # rate in a window that ends after its last grain left
     if not flow.stationary or run.clogged_at_rest and last_exit(tau, run.discharge["n_out"]) < t_to:
         return None
-    return Rate(flow.q_mass, flow.q_mass_se, t_from, t_to)
+    return Rate(flow.q_mass, flow.q_mass_se, t_from, t_to, flow)
 
 
 def ratio_of(a, b):
@@ -155,15 +157,16 @@ def combine(parts):
     return Ratio(float(mean), float(se), len(parts), tuple(parts), chi2 if len(parts) > 1 else np.nan)
 
 
-def paired(data_dir, f, f_ref, window, packings=PACKINGS):
-    """Q(f)/Q(f_ref) over one window, per packing that has both runs with
-    a flow in it, combined (combine)."""
+def paired(data_dir, f, f_ref, window, packings=PACKINGS, runs=FIG2C):
+    """Q(f)/Q(f_ref) over one window, per packing that has both runs
+    ({(packing, f): directory under data_dir}, FIG2C by default) with a
+    flow in it, combined (combine)."""
     parts = []
     for packing in packings:
-        if (packing, f) not in FIG2C or (packing, f_ref) not in FIG2C:
+        if (packing, f) not in runs or (packing, f_ref) not in runs:
             continue
-        a = window_rate(data_dir / FIG2C[packing, f], *window)
-        b = window_rate(data_dir / FIG2C[packing, f_ref], *window)
+        a = window_rate(data_dir / runs[packing, f], *window)
+        b = window_rate(data_dir / runs[packing, f_ref], *window)
         if a is None or b is None:
             continue
         parts.append((packing, *ratio_of(a, b)))
@@ -444,6 +447,11 @@ def results_rows(data_dir=DATA_DIR):
     rows.append(Row("rods, D = 60 mm: Q(1.28 Hz)/Q(0.64 Hz)", "a modest increase (Fig. 3b)",
                     f"{rise14.value:.2f} ± {rise14.se:.2f} ({rise14.n} packings)", "1–4 s, both runs", "agrees",
                     PAGE_SECTIONS["rise"]))
+
+    # the cut and the rise against elongation (Fig. 3): imported here, as
+    # the elongation module imports this one
+    from analysis.silo3d_rotating.elongation import results_rows as elongation_rows
+    rows += elongation_rows(data_dir)
 
     # rods, Q(D) at rest
     r70 = orifice_ratio(data_dir, "2nd", 70, 60, (1, 2))

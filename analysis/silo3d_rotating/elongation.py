@@ -1,0 +1,482 @@
+"""The flow-rate cut against elongation at D = 60 mm: the paper's Fig. 3
+(Pongó, Börzsönyi and Hidalgo 2022) from our run records, with the
+orifice averages <phi>, <v_z>, <O_zz> at each of its points.
+
+Fig. 3a is Q_min/Q(f = 0), Fig. 3b Q(1.28 Hz)/Q_min, against L/d = 1
+(spheres), 2.5, 3.3 and 4.0. Q_min is Q at 0.32 Hz at every L/d: 0.32 Hz
+is where the mean Q of the three packings of the L/d = 3.3 rods is
+lowest over 2-4 s (results.minimum_frequency; the paper puts its minima
+at 0.16-0.32 Hz), and it is the only slow frequency the elongation
+campaign runs. Both rates of a ratio are taken over the same window, per
+packing, and the packings' ratios are combined (results.paired,
+results.spheres_paired, results.combine):
+
+- L/d = 1: the spheres' 2 s runs at 60 mm (results.SPHERES), 0.5-2 s.
+  There is no spheres run at 1.28 Hz at 60 mm (only at 42 mm), so Fig. 3b
+  has no sphere point.
+- L/d = 3.3: the Fig. 2c campaign's runs (results.FIG2C), 2-4 s.
+- L/d = 2.5 and 4.0: the elongation campaign's archives
+  (examples/silo3d_rotating/rods_elongation.sh),
+  doc/data/silo3d_rods_elongation_L<aspect>/D0.06_f<f>_s<seed>/, seeds
+  32452843 and 15485863, 2-4 s. A run that is not archived, or whose
+  records end before 4 s, is left out, and its cell gives the number of
+  packings it has ("under way" when there are none). New runs are picked
+  up as they are archived.
+
+The orifice averages per (L/d, f), as in the paper's Figs. 8a, 8b and 9a:
+<X> = int X phi dV / int phi dV over the 1 cm high cylinder above the
+orifice. Each run's orifice_timeseries.md (one row per dump frame, from
+the analysis of the whole run before its archive) is averaged over its
+frames inside the window's stationary flow. The frames are those
+fields.in_flow keeps for the FlowRate the run's Q comes from, and the
+mean and block error are fields.orifice_summary's. The packings are then
+averaged, with a standard error from flow.seed_mean_ci (their spread
+when there are two or more, the one run's block error otherwise). The
+archived series do not all cover 2-4 s:
+- The 3.3 runs at rest are 8 s runs, and their series is over 4-8 s.
+  Their 2-4 s series comes from their 4 s twins (results.ORIFICES at
+  60 mm). A twin is the same trajectory up to 4 s: its discharge.txt is
+  the 8 s run's to round-off (tests/test_silo3d_elongation.py checks
+  this).
+- The third packing clogs at rest, so it has no average.
+- The spheres' runs at 60 mm archived neither dumps nor an orifice
+  series, so there is no average for them, and spheres have no O_zz.
+A series that does not cover the window (to within 1.5 frame spacings
+at each end) is left out.
+
+    /usr/bin/python3 -m analysis.silo3d_rotating.elongation --write    # the table in doc/data and in the page
+    /usr/bin/python3 -m analysis.silo3d_rotating.elongation --check    # exit 1 if either differs
+    /usr/bin/python3 -m analysis.silo3d_rotating.elongation --print    # the table and the results-table rows
+    /usr/bin/python3 -m analysis.silo3d_rotating.elongation --figure doc/img/silo3d_rods_fig3_elongation.png
+
+`results_rows(data_dir)` gives Fig. 3's two trends as rows of the page's
+results table (results.results_rows adds them).
+"""
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from analysis.common.cli import command_line
+from analysis.results_tables import DATA_DIR, ROOT, Row, markdown_table, replace_block
+from analysis.silo3d_rotating.acceleration import frame_spacing
+from analysis.silo3d_rotating.fields import in_flow, orifice_summary
+from analysis.silo3d_rotating.flow import BLOCKS, progress, seed_mean_ci
+from analysis.silo3d_rotating.records import key_value, load_run, read_run_info
+from analysis.silo3d_rotating.results import (FIG2C, ORIFICES, PACKINGS, PAGE_SECTIONS, SPHERES, combine, markdown_rows,
+                                              paired, spheres_paired, window_rate)
+
+D_MM = 60
+ASPECTS = (1.0, 2.5, 3.3, 4.0)
+CAMPAIGN_PACKINGS = ("1st", "2nd")         # its seeds: PACKINGS' first two
+SEED_NAMES = {seed: name for name, seed in PACKINGS.items()}   # spheres_paired names packings by seed
+F_MIN = 0.32                               # Q_min = Q(0.32 Hz) at every L/d (the module's docstring)
+F_FAST = 1.28
+FREQUENCIES = (0.0, F_MIN, F_FAST)
+WINDOW = (2, 4)                            # the rods, at every L/d
+SPHERES_WINDOW = (0.5, 2)                  # the spheres' 2 s runs
+ORIFICE_QUANTITIES = {"phi": "⟨φ⟩", "v_z": "⟨v_z⟩ (m/s)", "O_zz": "⟨O_zz⟩"}
+PANELS = {"a": (F_MIN, 0.0), "b": (F_FAST, F_MIN)}   # Fig. 3's panels: (f, f_ref) of Q(f)/Q(f_ref)
+
+TABLE = "silo3d_rods_elongation.md"        # under doc/data
+PAGE = "doc/silo3d_rotating.md"
+PAGE_BLOCK = "silo3d_rods_elongation"      # the page's <!-- results-table silo3d_rods_elongation --> block
+FIGURE = "doc/img/silo3d_rods_fig3_elongation.png"
+
+# What the paper (/work/shared/papers/pongo2022_rotating_bottom_silo_rods.md)
+# says about its Fig. 3. Neither the text nor the caption gives a value of
+# either ratio at any L/d, so those cells read "not stated".
+# - On Fig. 3: "the particle aspect ratio has a significant impact on the
+#   system flow rate, which could drop by even 70% for very elongated
+#   grains"; the abstract: "reduces the flow rate Q by up to 70% compared
+#   with stationary bottom". So Q_min/Q(0) is 0.30 at its deepest, for its
+#   longest rods; the orifice is not given.
+PAPER_DEEPEST_DROP = 0.30
+# - On Fig. 2a (spheres): "a weak nonmonotonic behavior (≈ 5% initial drop
+#   then ≈ 5% increase) for the larger orifices which we consider". That
+#   is Q_min/Q(0) ≈ 0.95, and Q(1.28)/Q_min ≈ 1.05 if the increase is read
+#   from the minimum. The orifices are not named.
+PAPER_SPHERES = {"a": 0.95, "b": 1.05}
+# - The trends: "The increasing aspect ratio of the particles causes a
+#   larger decrease in the flow rate" (Fig. 3a); "the relative increase
+#   gets larger as the grains are more elongated or as the orifice size is
+#   decreased" (Fig. 3b).
+PAPER_TRENDS = {"a": "falls as L/d grows (“a larger decrease in the flow rate”)",
+                "b": "grows with L/d (“the relative increase gets larger as the grains are more elongated”)"}
+
+
+# ---------------------------------------------------------------- runs
+
+def store(aspect):
+    """The elongation campaign's store of one aspect ratio, under doc/data."""
+    return f"silo3d_rods_elongation_L{aspect:.1f}"
+
+
+def campaign_runs(data_dir, aspect):
+    """{(packing, f): directory under data_dir} for the runs the store of
+    `aspect` holds (those with a discharge.txt). A run.txt that does not
+    match the run's place in the store is an error."""
+    runs = {}
+    for packing in CAMPAIGN_PACKINGS:
+        for f in FREQUENCIES:
+            name = f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[packing]}"
+            if (data_dir / name / "discharge.txt").exists():
+                info = read_run_info(data_dir / name, required=("aspect", "D", "f", "seed"))
+                wanted = {"aspect": aspect, "D": D_MM / 1000, "f": f, "seed": PACKINGS[packing]}
+                wrong = {key: info[key] for key, value in wanted.items() if key_value(info[key]) != key_value(value)}
+                if wrong:
+                    raise ValueError(f"{data_dir / name}/run.txt: {wrong}, but the store's layout says {wanted}")
+                runs[packing, f] = name
+    return runs
+
+
+def rod_runs(data_dir, aspect):
+    """The rods' runs of one aspect ratio, {(packing, f): directory}, and the packings planned for it."""
+    if aspect == 3.3:
+        return FIG2C, tuple(PACKINGS)
+    return campaign_runs(data_dir, aspect), CAMPAIGN_PACKINGS
+
+
+def run_status(data_dir, name, window):
+    """(Rate over the window, "") of a run; (None, why) without one."""
+    if name is None or not (data_dir / name / "discharge.txt").exists():
+        return None, "not archived yet"
+    rate = window_rate(data_dir / name, *window)
+    if rate is not None:
+        return rate, ""
+    tau = load_run(data_dir / name).tau
+    if tau[-1] < window[1] - np.min(np.diff(tau)):
+        return None, f"records end at {tau[-1]:.2f} s"
+    return None, "no flow in the window: a clog"
+
+
+# ---------------------------------------------------------------- Fig. 3
+
+@dataclass
+class Point:
+    aspect: float
+    panel: str            # "a": Q_min/Q(0), "b": Q(1.28)/Q_min
+    ratio: object         # results.Ratio (n = 0: no value)
+    window: tuple
+    planned: int          # packings the point has runs for, or will have
+    missing: str = ""     # why there is no value
+
+    def value_cell(self, digits=2):
+        if not self.ratio.n:
+            return self.missing
+        return f"{self.ratio.value:.{digits}f} ± {self.ratio.se:.{digits}f}"
+
+
+def fig3_points(data_dir=DATA_DIR):
+    """Fig. 3's points, L/d by L/d, panel a before b (the module's docstring)."""
+    data_dir = Path(data_dir)
+    spheres = spheres_paired(data_dir, D_MM, *PANELS["a"], window=SPHERES_WINDOW)
+    points = [Point(1.0, "a", spheres, SPHERES_WINDOW, len(PACKINGS)),
+              Point(1.0, "b", combine([]), SPHERES_WINDOW, 0,
+                    f"no run: no spheres run at {F_FAST:g} Hz at D = {D_MM} mm (only at 42 mm)")]
+    points += [rod_point(data_dir, aspect, panel) for aspect in ASPECTS[1:] for panel in PANELS]
+    return points
+
+
+def rod_point(data_dir, aspect, panel):
+    """The rods' point of one panel at one L/d, over WINDOW, paired by packing."""
+    runs, packings = rod_runs(Path(data_dir), aspect)
+    ratio = paired(Path(data_dir), *PANELS[panel], WINDOW, packings=packings, runs=runs)
+    return Point(aspect, panel, ratio, WINDOW, len(packings), "" if ratio.n else "under way")
+
+
+def paper_cell(aspect, panel):
+    if aspect == 1.0:
+        words = {"a": "“≈ 5 % initial drop”", "b": "“then ≈ 5 % increase”"}[panel]
+        return f"≈ {PAPER_SPHERES[panel]:.2f} (Fig. 2a's text, {words}, larger orifices)"
+    if aspect == max(ASPECTS) and panel == "a":
+        return (f"not stated; its deepest drop, for its longest rods, “by even 70 %” "
+                f"(so ≥ {PAPER_DEEPEST_DROP:.2f}; orifice not given)")
+    return "not stated"
+
+
+def _aspect(aspect):
+    return "1 (spheres)" if aspect == 1.0 else f"{aspect:.1f}"
+
+
+def _window(window):
+    return f"{window[0]:g}–{window[1]:g} s"
+
+
+def _ratio_name(panel):
+    f, f_ref = PANELS[panel]
+    return f"Q({f:g} Hz)/Q({f_ref:g})" if f_ref == 0 else f"Q({f:g} Hz)/Q({f_ref:g} Hz)"
+
+
+def fig3_table(points, detail=True):
+    """Markdown: one row per point; with `detail` each packing's ratio and chi2."""
+    header = ["Fig.", "L/d", "ratio", "window", "ours", "packings"] + (["per packing", "χ²"] if detail else []) + [
+        "the paper"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for point in sorted(points, key=lambda p: (p.panel, p.aspect)):
+        cells = [f"3{point.panel}", _aspect(point.aspect), _ratio_name(point.panel), _window(point.window),
+                 point.value_cell(), f"{point.ratio.n} of {point.planned}" if point.planned else "—"]
+        if detail:
+            per = ", ".join(f"{SEED_NAMES.get(packing, packing)} {value:.3f} ± {se:.3f}"
+                            for packing, value, se in point.ratio.parts)
+            cells += [per or "—", "" if np.isnan(point.ratio.chi2) else f"{point.ratio.chi2:.1f}"]
+        lines.append("| " + " | ".join(cells + [paper_cell(point.aspect, point.panel)]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------- orifice averages
+
+def covers(frame_times, flow):
+    """Whether frames at frame_times span the flow's window (to within 1.5
+    frame spacings at each end)."""
+    if len(frame_times) < 2:
+        return False
+    slack = 1.5 * frame_spacing(frame_times)
+    return frame_times[0] - flow.start <= slack and flow.end - frame_times[-1] <= slack
+
+
+def run_orifice_means(run_dir, window):
+    """{quantity: (mean, block se)} of a run's orifice series over its frames
+    in the window's stationary flow; None if the run has no rate there,
+    has no series, or its series does not cover the window."""
+    rate = window_rate(run_dir, *window)
+    path = Path(run_dir) / "orifice_timeseries.md"
+    if rate is None or not path.exists():
+        return None
+    rows = markdown_rows(path)
+    times = np.array([row["t"] for row in rows])
+    keep = np.flatnonzero(in_flow(times, rate.flow))
+    if not covers(times[keep], rate.flow):
+        return None
+    summary = orifice_summary([rows[i] for i in keep])
+    return {name: summary[name] for name in ORIFICE_QUANTITIES}
+
+
+def orifice_series(aspect, f, runs, packing):
+    """The run (directory under doc/data) whose orifice series gives the
+    rods' (aspect, f) over WINDOW in `packing`: the 3.3 runs at rest are
+    the 8 s runs' 4 s twins (the module's docstring)."""
+    if aspect == 3.3 and f == 0.0:
+        return ORIFICES.get((packing, D_MM))
+    return runs.get((packing, f))
+
+
+@dataclass
+class OrificePoint:
+    aspect: float
+    f: float
+    window: tuple
+    values: dict          # quantity -> (mean over the packings, its se)
+    n: int
+    planned: int
+    note: str = ""
+
+
+def orifice_points(data_dir=DATA_DIR):
+    data_dir = Path(data_dir)
+    points = [OrificePoint(1.0, f, SPHERES_WINDOW, {}, 0, len(PACKINGS),
+                           "none archived: the spheres' runs at 60 mm kept no dumps nor orifice series")
+              for f in PANELS["a"][::-1]]
+    for aspect in ASPECTS[1:]:
+        runs, packings = rod_runs(data_dir, aspect)
+        for f in FREQUENCIES:
+            per_run = [means for packing in packings
+                       if (name := orifice_series(aspect, f, runs, packing)) is not None
+                       and (means := run_orifice_means(data_dir / name, WINDOW)) is not None]
+            values = {q: seed_mean_ci([m[q][0] for m in per_run], [m[q][1] for m in per_run],
+                                      [BLOCKS - 1] * len(per_run))[:2] for q in ORIFICE_QUANTITIES} if per_run else {}
+            note = ""
+            if aspect == 3.3 and f == 0.0:
+                note = "the 8 s runs' 4 s twins; the 3rd packing clogs at rest"
+            elif not per_run:
+                note = "under way"
+            points.append(OrificePoint(aspect, f, WINDOW, values, len(per_run), len(packings), note))
+    return points
+
+
+def orifice_table(points):
+    header = ["L/d", "f (Hz)", "window", "packings"] + list(ORIFICE_QUANTITIES.values()) + ["note"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for point in points:
+        cells = [_aspect(point.aspect), f"{point.f:g}", _window(point.window), f"{point.n} of {point.planned}"]
+        for q in ORIFICE_QUANTITIES:
+            cells.append(f"{point.values[q][0]:.3f} ± {point.values[q][1]:.3f}" if point.n else "—")
+        lines.append("| " + " | ".join(cells + [point.note]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------- tables
+
+def runs_table(data_dir):
+    """Q of every run Fig. 3 uses or waits for, over its window."""
+    lines = ["| L/d | f (Hz) | packing | window | Q (kg/s) | run |", "|---|---|---|---|---|---|"]
+    planned = [(1.0, f, packing, SPHERES[D_MM, f, seed], SPHERES_WINDOW)
+               for f in PANELS["a"][::-1] for packing, seed in PACKINGS.items()]
+    for aspect in ASPECTS[1:]:
+        runs, packings = rod_runs(data_dir, aspect)
+        default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in FREQUENCIES}
+        planned += [(aspect, f, p, runs.get((p, f), default[p, f]), WINDOW) for f in FREQUENCIES for p in packings]
+    for aspect, f, packing, name, window in planned:
+        rate, why = run_status(data_dir, name, window)
+        q = f"{rate.q:.4f} ± {rate.se:.4f}" if rate else f"— ({why})"
+        lines.append(f"| {_aspect(aspect)} | {f:g} | {packing} | {_window(window)} | {q} | {name} |")
+    return "\n".join(lines) + "\n"
+
+
+def data_table(data_dir=DATA_DIR):
+    """The Markdown of doc/data/silo3d_rods_elongation.md."""
+    data_dir = Path(data_dir)
+    progress("elongation: Fig. 3's ratios")
+    points = fig3_points(data_dir)
+    progress("elongation: the orifice averages")
+    orifice = orifice_points(data_dir)
+    lines = ["# The flow-rate cut against elongation at D = 60 mm (Pongó et al. 2022, Fig. 3)",
+             "",
+             "Made by `/usr/bin/python3 -m analysis.silo3d_rotating.elongation --write` from the runs'",
+             "records (analysis/silo3d_rotating/elongation.py says which). Q in kg/s ± its block standard",
+             "error (10 blocks), over the window, in time since the opening; both rates of a ratio over",
+             "the same window. A ratio over packings is the weighted mean of the packings' ratios, each",
+             "± the two runs' block errors propagated, its error scaled up by sqrt(χ²/dof) when the",
+             "packings disagree (analysis.silo3d_rotating.results.combine). Q_min is Q(0.32 Hz) at every",
+             "L/d (the lowest mean Q of the three L/d = 3.3 packings over 2–4 s). L/d = 2.5 and 4.0 come",
+             f"from the elongation campaign's stores ({store(2.5)}/, {store(4.0)}/; seeds",
+             f"{PACKINGS['1st']} = 1st, {PACKINGS['2nd']} = 2nd) as their runs are archived. \"under way\": none",
+             "archived yet. The paper gives no value of either ratio for any L/d; its statements are",
+             "quoted in the module.",
+             "",
+             "## Fig. 3: (a) Q_min/Q(0) and (b) Q(1.28 Hz)/Q_min, paired by packing",
+             "",
+             fig3_table(points).rstrip("\n"),
+             "",
+             "## Q per run (the paper's Figs. 2a–2d at D = 60 mm, f = 0, 0.32, 1.28 Hz)",
+             "",
+             runs_table(data_dir).rstrip("\n"),
+             "",
+             "## Orifice averages over the same window (as the paper's Figs. 8a, 8b, 9a)",
+             "",
+             "⟨X⟩ = ∫Xφ dV/∫φ dV over the 1 cm cylinder above the orifice, per dump frame",
+             "(each run's orifice_timeseries.md). The mean over the frames in the window's stationary",
+             "flow, then the mean over the packings ± its standard error (one packing: its block error).",
+             "",
+             orifice_table(orifice).rstrip("\n")]
+    return "\n".join(lines) + "\n"
+
+
+def page_table(data_dir=DATA_DIR):
+    """The page's generated block: Fig. 3's points and the orifice averages."""
+    return (fig3_table(fig3_points(data_dir), detail=False) + "\n"
+            + orifice_table(orifice_points(data_dir)))
+
+
+# ---------------------------------------------------------------- the page's results rows
+
+def results_rows(data_dir=DATA_DIR):
+    """Fig. 3's two trends as rows of the page's results table (added
+    there by results.results_rows). Their verdict stays "open": the trend
+    needs L/d = 2.5 and 4.0, and then a person reads it."""
+    points = fig3_points(data_dir)
+    rows = []
+    for panel, quantity in (("a", f"Q_min/Q(0) against L/d, D = {D_MM} mm (Fig. 3a; Q_min = Q({F_MIN:g} Hz))"),
+                            ("b", f"Q({F_FAST:g} Hz)/Q_min against L/d, D = {D_MM} mm (Fig. 3b)")):
+        ours = "; ".join(f"L/d = {_aspect(p.aspect)}: {p.value_cell()}" + (f" ({p.ratio.n} packings)" if p.ratio.n
+                                                                          else "")
+                         for p in points if p.panel == panel)
+        paper = PAPER_TRENDS[panel] + (f"; down to {PAPER_DEEPEST_DROP:.2f} (“by even 70 %”) for its longest rods"
+                                       if panel == "a" else "")
+        window = "0.5–2 s (spheres), 2–4 s (rods), both runs" if panel == "a" else "2–4 s, both runs"
+        rows.append(Row(quantity, paper, ours, window, "open", PAGE_SECTIONS["elongation"]))
+    return rows
+
+
+# ---------------------------------------------------------------- figure
+
+def plot_fig3(data_dir, path):
+    """Fig. 3's two panels from our runs, the paper's statements marked."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    points = fig3_points(data_dir)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4.3))
+    fig.subplots_adjust(left=0.07, right=0.98, top=0.86, bottom=0.2, wspace=0.25)
+    for ax, panel in zip(axes, PANELS):
+        ax.axhline(1, color="grey", lw=0.6)
+        for point in (p for p in points if p.panel == panel):
+            if not point.ratio.n:
+                # beside the paper's star at L/d = 1
+                where = (point.aspect + 0.12, 0.03) if point.aspect == 1.0 else (point.aspect, 0.03)
+                ax.annotate(f"no {F_FAST:g} Hz run" if point.aspect == 1.0 else "under way", where,
+                            xycoords=("data", "axes fraction"), rotation=90, fontsize=7, ha="center",
+                            va="bottom", color="grey")
+                continue
+            for k, (_, value, se) in enumerate(point.ratio.parts):
+                ax.errorbar(point.aspect + 0.08 * (k + 1), value, yerr=se, fmt=".", color="tab:blue", alpha=0.4,
+                            ms=4, capsize=1.5)
+            ax.errorbar(point.aspect, point.ratio.value, yerr=point.ratio.se, fmt="o", color="tab:blue", capsize=3)
+            ax.annotate(f"{point.ratio.n} packings,\n{_window(point.window)}", (point.aspect, point.ratio.value),
+                        xytext=(-8, 0), textcoords="offset points", fontsize=7, ha="right", va="center")
+        ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
+        ax.set_xticks(ASPECTS)
+        ax.set_xlim(0.5, 4.5)
+        ax.set_xlabel("L/d (1: spheres)")
+    axes[0].axhline(PAPER_DEEPEST_DROP, color="tab:red", ls=":", lw=1)
+    axes[0].text(0.55, PAPER_DEEPEST_DROP - 0.02, "paper: “by even 70 %”\n(its longest rods, any orifice)",
+                 color="tab:red", fontsize=7, ha="left", va="top")
+    axes[0].set_ylabel(f"Q_min/Q(0)   (Q_min = Q({F_MIN:g} Hz))")
+    axes[0].set_ylim(0, 1.2)
+    axes[0].set_title("(a) the cut", fontsize=10)
+    axes[1].set_ylabel(f"Q({F_FAST:g} Hz)/Q_min")
+    axes[1].set_ylim(bottom=0.5)
+    axes[1].set_title("(b) the rise after the minimum", fontsize=10)
+    handles = [axes[1].plot([], [], "o", color="tab:blue")[0],
+               axes[1].plot([], [], ".", color="tab:blue", alpha=0.4)[0],
+               axes[1].plot([], [], "*", color="tab:red", mfc="none")[0]]
+    fig.legend(handles, ["ours: weighted mean over the packings ± se", "each packing ± its runs' block errors",
+                         "paper, spheres: “≈ 5 % drop then ≈ 5 % increase” (Fig. 2a's text)"],
+               loc="lower center", ncols=3, fontsize=7)
+    fig.suptitle(f"D = {D_MM} mm: Fig. 3 of Pongó et al. 2022 from our runs (both rates of a ratio over one window)",
+                 fontsize=9)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------- command line
+
+def main(argv=None):
+    parser = command_line("analysis.silo3d_rotating.elongation", __doc__.split("\n\n")[0],
+                          "/usr/bin/python3 -m analysis.silo3d_rotating.elongation --check")
+    action = parser.add_mutually_exclusive_group(required=True)
+    action.add_argument("--write", action="store_true", help=f"write doc/data/{TABLE} and the page's block")
+    action.add_argument("--check", action="store_true", help="exit 1 if the table or the page's block differs")
+    action.add_argument("--print", action="store_true", help="print the table and the results-table rows")
+    action.add_argument("--figure", type=Path, metavar="PNG", help=f"plot Fig. 3 (the page's: {FIGURE})")
+    parser.add_argument("--data-dir", type=Path, default=DATA_DIR, help="doc/data (default %(default)s)")
+    parser.add_argument("--page", type=Path, default=ROOT / PAGE, help="the scene's page (default %(default)s)")
+    args = parser.parse_args(argv)
+    if args.figure:
+        plot_fig3(args.data_dir, args.figure)
+        progress(f"elongation: wrote {args.figure}")
+        return 0
+    text = data_table(args.data_dir)
+    if args.print:
+        print(text)
+        print(markdown_table(results_rows(args.data_dir)))
+        return 0
+    path = args.data_dir / TABLE
+    page = args.page.read_text()
+    new_page = replace_block(page, PAGE_BLOCK, page_table(args.data_dir))
+    if args.write:
+        path.write_text(text)
+        args.page.write_text(new_page)
+        return 0
+    stale = [str(p) for p, same in ((path, path.exists() and path.read_text() == text),
+                                    (args.page, new_page == page)) if not same]
+    for name in stale:
+        print(f"{name} differs from the records "
+              "(/usr/bin/python3 -m analysis.silo3d_rotating.elongation --write)", file=sys.stderr)
+    return 1 if stale else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

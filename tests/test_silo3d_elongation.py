@@ -1,0 +1,147 @@
+"""analysis.silo3d_rotating.elongation (the paper's Fig. 3 from our
+records): its L/d = 3.3 point against rates computed here from the runs'
+discharge.txt, its orifice averages against the campaign analysis' own
+tables, a store laid out like the elongation campaign's picked up
+without a code change (and a run cut short left out), and the committed
+table. Reads doc/data only; no engine."""
+
+import shutil
+
+import numpy as np
+import pytest
+
+from analysis.results_tables import DATA_DIR
+from analysis.silo3d_rotating import elongation
+from analysis.silo3d_rotating.results import FIG2C, ORIFICES, PACKINGS, markdown_rows
+
+SEED = PACKINGS["2nd"]
+
+
+def discharge(run_dir):
+    """(time since the opening, mass out) of a run, read here without the analysis."""
+    t_open = next(float(line.split()[1]) for line in (run_dir / "run.txt").read_text().splitlines()
+                  if line.startswith("t_open "))
+    table = np.loadtxt(run_dir / "discharge.txt")        # step t n_out mass_out
+    return table[:, 1] - t_open, table[:, 3]
+
+
+def rates_over(run_dir, t_from=2.0, t_to=4.0):
+    """Q over [t_from, t_to] two ways: the slope of a straight line through
+    mass_out against time, and the mass between the first and the last
+    sample in the window over their time apart."""
+    tau, mass = discharge(run_dir)
+    inside = (tau >= t_from) & (tau <= t_to)
+    slope = np.polyfit(tau[inside], mass[inside], 1)[0]
+    ends = (mass[inside][-1] - mass[inside][0]) / (tau[inside][-1] - tau[inside][0])
+    return slope, ends
+
+
+@pytest.mark.parametrize("panel, f, f_ref", [("a", 0.32, 0.0), ("b", 1.28, 0.32)])
+def test_the_3_3_point_is_the_ratio_of_the_two_runs_rates_per_packing(panel, f, f_ref):
+    point = elongation.rod_point(DATA_DIR, 3.3, panel)
+    # the third packing clogs at rest: over 2-4 s not one rod leaves
+    tau, mass = discharge(DATA_DIR / FIG2C["3rd", 0.0])
+    inside = (tau >= 2) & (tau <= 4)
+    assert mass[inside][-1] == mass[inside][0]
+    expected = ["1st", "2nd"] if panel == "a" else ["1st", "2nd", "3rd"]
+    assert [p[0] for p in point.ratio.parts] == expected
+    for packing, value, se in point.ratio.parts:
+        slope_f, ends_f = rates_over(DATA_DIR / FIG2C[packing, f])
+        slope_ref, ends_ref = rates_over(DATA_DIR / FIG2C[packing, f_ref])
+        # no pause of 1 s or more in these windows: the rate is the mass
+        # between the window's end samples over their time apart
+        assert value == pytest.approx(ends_f / ends_ref, rel=1e-9)
+        # a straight line through the bursts lands within the error
+        assert abs(value - slope_f / slope_ref) < se, (packing, value, slope_f / slope_ref, se)
+    values = [p[1] for p in point.ratio.parts]
+    assert min(values) <= point.ratio.value <= max(values)
+    assert point.planned == 3 and point.window == (2, 4)
+
+
+def test_the_orifice_averages_at_0_32_hz_are_the_campaign_analysis_own():
+    """The 0.32 Hz runs were analysed over 2-4 s, the window of their
+    protocol: their rows in the campaign's per-packing tables (made by
+    analysis.silo3d_rotating from the same series) are the module's."""
+    for packing, name in (("1st", "first"), ("2nd", "second"), ("3rd", "third")):
+        table = markdown_rows(DATA_DIR / "silo3d_rods_fig2c" / f"orifice_runs_{name}_packing.md")
+        row = next(r for r in table if r["f"] == 0.32)
+        means = elongation.run_orifice_means(DATA_DIR / FIG2C[packing, 0.32], (2, 4))
+        for quantity in ("phi", "v_z", "O_zz"):
+            assert means[quantity][0] == pytest.approx(row[quantity], rel=2e-5), (packing, quantity)
+            assert means[quantity][1] == pytest.approx(row[f"{quantity}_se"], rel=2e-4), (packing, quantity)
+
+
+def test_the_orifice_series_at_rest_come_from_the_same_trajectories():
+    """The 3.3 averages at rest are the 4 s twins' (the 8 s runs' series
+    start at 4 s): a twin's discharge is the 8 s run's over its 4 s."""
+    for packing in ("1st", "2nd"):
+        twin, long = DATA_DIR / ORIFICES[packing, 60], DATA_DIR / FIG2C[packing, 0.0]
+        tau_twin, mass_twin = discharge(twin)
+        tau_long, mass_long = discharge(long)
+        assert tau_twin[-1] > 3.99
+        np.testing.assert_allclose(tau_long[:tau_twin.size], tau_twin, rtol=1e-12)
+        np.testing.assert_array_equal(mass_long[:tau_twin.size], mass_twin)
+        assert elongation.run_orifice_means(long, (2, 4)) is None          # its series: 4-8 s
+        assert elongation.run_orifice_means(twin, (2, 4)) is not None
+
+
+@pytest.fixture
+def data_with_a_store(tmp_path):
+    """doc/data (linked) with an L/d = 4.0 store holding the second
+    packing's 3.3 runs at rest and at 0.32 Hz, named as the campaign names
+    its runs (run.txt's aspect made 4.0)."""
+    for entry in DATA_DIR.iterdir():
+        (tmp_path / entry.name).symlink_to(entry)
+    store = tmp_path / elongation.store(4.0)
+    for f in (0.0, 0.32):
+        run = store / f"D0.06_f{f:g}_s{SEED}"
+        shutil.copytree(DATA_DIR / FIG2C["2nd", f], run)
+        info = (run / "run.txt").read_text()
+        assert "\naspect 3.3\n" in info
+        (run / "run.txt").write_text(info.replace("\naspect 3.3\n", "\naspect 4.0\n"))
+    return tmp_path
+
+
+def test_a_store_is_picked_up_as_its_runs_land(data_with_a_store):
+    data = data_with_a_store
+    point = elongation.rod_point(data, 4.0, "a")
+    slope_f, ends_f = rates_over(DATA_DIR / FIG2C["2nd", 0.32])
+    slope_ref, ends_ref = rates_over(DATA_DIR / FIG2C["2nd", 0.0])
+    assert point.ratio.n == 1 and point.planned == 2
+    assert point.ratio.value == pytest.approx(ends_f / ends_ref, rel=1e-9)
+    assert point.value_cell() == f"{point.ratio.value:.2f} ± {point.ratio.se:.2f}"
+    assert elongation.rod_point(data, 4.0, "b").missing == "under way"      # no 1.28 Hz run yet
+    table = elongation.data_table(data)
+    assert f"| 3a | 4.0 | Q(0.32 Hz)/Q(0) | 2–4 s | {point.value_cell()} | 1 of 2 |" in table
+    assert "| 3a | 2.5 | Q(0.32 Hz)/Q(0) | 2–4 s | under way | 0 of 2 |" in table
+    # the orifice series of the copied run at rest covers 4-8 s only: left out
+    orifice = {(p.aspect, p.f): p for p in elongation.orifice_points(data)}
+    assert orifice[4.0, 0.0].n == 0
+    assert orifice[4.0, 0.32].n == 1
+    own = elongation.run_orifice_means(DATA_DIR / FIG2C["2nd", 0.32], (2, 4))
+    assert orifice[4.0, 0.32].values["v_z"] == pytest.approx(own["v_z"])
+
+
+def test_a_run_cut_short_of_4_s_is_left_out(data_with_a_store):
+    data = data_with_a_store
+    path = data / elongation.store(4.0) / f"D0.06_f0.32_s{SEED}" / "discharge.txt"
+    lines = path.read_text().splitlines(keepends=True)
+    tau, _ = discharge(path.parent)
+    kept = [line for line in lines if line.startswith("#")] + \
+           [line for line, t in zip((l for l in lines if not l.startswith("#")), tau) if t < 3.5]
+    path.write_text("".join(kept))
+    point = elongation.rod_point(data, 4.0, "a")
+    assert point.ratio.n == 0 and point.value_cell() == "under way"
+    table = elongation.data_table(data)
+    assert f"| 4.0 | 0.32 | 2nd | 2–4 s | — (records end at {tau[tau < 3.5][-1]:.2f} s) |" in table
+
+
+def test_a_run_txt_that_does_not_match_its_place_in_the_store_is_an_error(data_with_a_store):
+    run = data_with_a_store / elongation.store(4.0) / f"D0.06_f0_s{SEED}"
+    (run / "run.txt").write_text((run / "run.txt").read_text().replace("\naspect 4.0\n", "\naspect 3.3\n"))
+    with pytest.raises(ValueError, match="aspect"):
+        elongation.rod_point(data_with_a_store, 4.0, "a")
+
+
+def test_the_committed_table_and_page_block_agree_with_the_records():
+    assert elongation.main(["--check"]) == 0

@@ -42,7 +42,8 @@ def runs_as(name):
 def test_every_command_line_module_is_found():
     names = command_modules()
     assert "analysis.silo3d_rotating.analyse" in names and "analysis.campaign.silo3d_carry" in names
-    assert len(names) == 20
+    assert "analysis.silo3d_rotating.elongation" in names
+    assert len(names) == 21
 
 
 @pytest.mark.parametrize("name", command_modules())

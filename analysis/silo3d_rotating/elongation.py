@@ -66,7 +66,7 @@ from analysis.silo3d_rotating.fields import in_flow, orifice_summary
 from analysis.silo3d_rotating.flow import BLOCKS, progress, seed_mean_ci
 from analysis.silo3d_rotating.records import key_value, load_run, read_run_info
 from analysis.silo3d_rotating.results import (FIG2C, ORIFICES, PACKINGS, PAGE_SECTIONS, SPHERES, combine, markdown_rows,
-                                              paired, spheres_paired, window_rate)
+                                              paired, rate_text, spheres_paired, window_rate, window_text)
 
 D_MM = 60
 ASPECTS = (1.0, 2.5, 3.3, 4.0)
@@ -201,10 +201,6 @@ def _aspect(aspect):
     return "1 (spheres)" if aspect == 1.0 else f"{aspect:.1f}"
 
 
-def _window(window):
-    return f"{window[0]:g}–{window[1]:g} s"
-
-
 def _ratio_name(panel):
     f, f_ref = PANELS[panel]
     return f"Q({f:g} Hz)/Q({f_ref:g})" if f_ref == 0 else f"Q({f:g} Hz)/Q({f_ref:g} Hz)"
@@ -216,7 +212,7 @@ def fig3_table(points, detail=True):
         "the paper"]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for point in sorted(points, key=lambda p: (p.panel, p.aspect)):
-        cells = [f"3{point.panel}", _aspect(point.aspect), _ratio_name(point.panel), _window(point.window),
+        cells = [f"3{point.panel}", _aspect(point.aspect), _ratio_name(point.panel), window_text(point.window),
                  point.value_cell(), f"{point.ratio.n} of {point.planned}" if point.planned else "—"]
         if detail:
             per = ", ".join(f"{SEED_NAMES.get(packing, packing)} {value:.3f} ± {se:.3f}"
@@ -300,7 +296,7 @@ def orifice_table(points):
     header = ["L/d", "f (Hz)", "window", "packings"] + list(ORIFICE_QUANTITIES.values()) + ["note"]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for point in points:
-        cells = [_aspect(point.aspect), f"{point.f:g}", _window(point.window), f"{point.n} of {point.planned}"]
+        cells = [_aspect(point.aspect), f"{point.f:g}", window_text(point.window), f"{point.n} of {point.planned}"]
         for q in ORIFICE_QUANTITIES:
             cells.append(f"{point.values[q][0]:.3f} ± {point.values[q][1]:.3f}" if point.n else "—")
         lines.append("| " + " | ".join(cells + [point.note]) + " |")
@@ -320,8 +316,8 @@ def runs_table(data_dir):
         planned += [(aspect, f, p, runs.get((p, f), default[p, f]), WINDOW) for f in FREQUENCIES for p in packings]
     for aspect, f, packing, name, window in planned:
         rate, why = run_status(data_dir, name, window)
-        q = f"{rate.q:.4f} ± {rate.se:.4f}" if rate else f"— ({why})"
-        lines.append(f"| {_aspect(aspect)} | {f:g} | {packing} | {_window(window)} | {q} | {name} |")
+        q = rate_text(rate) if rate else f"— ({why})"
+        lines.append(f"| {_aspect(aspect)} | {f:g} | {packing} | {window_text(window)} | {q} | {name} |")
     return "\n".join(lines) + "\n"
 
 
@@ -414,7 +410,7 @@ def plot_fig3(data_dir, path):
                 ax.errorbar(point.aspect + 0.08 * (k + 1), value, yerr=se, fmt=".", color="tab:blue", alpha=0.4,
                             ms=4, capsize=1.5)
             ax.errorbar(point.aspect, point.ratio.value, yerr=point.ratio.se, fmt="o", color="tab:blue", capsize=3)
-            ax.annotate(f"{point.ratio.n} packings,\n{_window(point.window)}", (point.aspect, point.ratio.value),
+            ax.annotate(f"{point.ratio.n} packings,\n{window_text(point.window)}", (point.aspect, point.ratio.value),
                         xytext=(-8, 0), textcoords="offset points", fontsize=7, ha="right", va="center")
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)

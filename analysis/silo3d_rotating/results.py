@@ -287,11 +287,13 @@ def order_by_frequency(data_dir, name="orifice_three_packings.md"):
 
 # ---------------------------------------------------------------- tables in doc/data
 
-def _window(window):
+def window_text(window):
+    """A window of time since the opening as the tables write it: "2–4 s"."""
     return f"{window[0]:g}–{window[1]:g} s"
 
 
-def _q(rate):
+def rate_text(rate):
+    """A Rate as the tables write it (kg/s ± its block error); "—" for None."""
     return "—" if rate is None else f"{rate.q:.4f} ± {rate.se:.4f}"
 
 
@@ -316,12 +318,12 @@ def frequency_table(data_dir):
              "between realizations (doc/campaigns/silo3d_rotating.md).",
              ""]
     windows = ((1, 2), (1, 4), (2, 4), (4, 8))
-    lines += ["## Q per run", "", "| f (Hz) | packing | " + " | ".join(_window(w) for w in windows) + " |",
+    lines += ["## Q per run", "", "| f (Hz) | packing | " + " | ".join(window_text(w) for w in windows) + " |",
               "|---|---|" + "---|" * len(windows)]
     for f in FREQUENCIES:
         for packing in PACKINGS:
             rates = [window_rate(data_dir / FIG2C[packing, f], *w) for w in windows]
-            lines.append(f"| {f:g} | {packing} | " + " | ".join(_q(r) for r in rates) + " |")
+            lines.append(f"| {f:g} | {packing} | " + " | ".join(rate_text(r) for r in rates) + " |")
     lines += ["", "(— : the run is shorter than the window, or clogged in it.)", "",
               "## Q(f)/Q(0), paired by packing", "",
               "| f (Hz) | window | Q(f)/Q(0) | packings | per packing | chi2 |", "|---|---|---|---|---|---|"]
@@ -329,7 +331,7 @@ def frequency_table(data_dir):
         for window in windows:
             ratio = paired(data_dir, f, 0.0, window)
             if ratio.n:
-                lines.append(f"| {f:g} | {_window(window)} | " + " | ".join(_ratio_cells(ratio)) + " |")
+                lines.append(f"| {f:g} | {window_text(window)} | " + " | ".join(_ratio_cells(ratio)) + " |")
     lines += ["", "## The minimum and the rise, paired by packing", "",
               "| ratio | window | value | packings | per packing | chi2 |", "|---|---|---|---|---|---|"]
     for window in ((2, 4), (1, 4)):
@@ -338,12 +340,12 @@ def frequency_table(data_dir):
         means = ", ".join(f"{f:g} Hz {np.mean([r.q for _, r in m]):.4f} (n = {len(m)})"
                           for f, m in rates.items())
         lines.append(f"| mean Q over the packings per f: {means}; lowest mean at f > 0: {f_min:g} Hz "
-                     f"| {_window(window)} | | | | |")
+                     f"| {window_text(window)} | | | | |")
         pairs = [(f_min, 0.0), (1.28, f_min)] + [p for p in ((1.28, 0.64), (1.28, 0.32)) if p[1] != f_min]
         for f, f_ref in pairs:
             ratio = paired(data_dir, f, f_ref, window)
             if ratio.n and f != f_ref:
-                lines.append(f"| Q({f:g})/Q({f_ref:g}) | {_window(window)} | "
+                lines.append(f"| Q({f:g})/Q({f_ref:g}) | {window_text(window)} | "
                              + " | ".join(_ratio_cells(ratio)) + " |")
     return "\n".join(lines) + "\n"
 
@@ -364,14 +366,14 @@ def orifice_table(data_dir):
              "## Q per run", "", "| packing | D (mm) | 1–2 s | 1–4 s | 2–4 s |", "|---|---|---|---|---|"]
     for (packing, D), path in ORIFICES.items():
         rates = [window_rate(data_dir / path, *w) for w in ((1, 2), (1, 4), (2, 4))]
-        lines.append(f"| {packing} | {D} | " + " | ".join(_q(r) for r in rates) + " |")
+        lines.append(f"| {packing} | {D} | " + " | ".join(rate_text(r) for r in rates) + " |")
     lines += ["", "## Ratios", "", "| ratio | packing | window | value | the paper's e^{kappa ΔD} | D^{5/2} |",
               "|---|---|---|---|---|---|"]
     for packing, D, D_ref, window in (("2nd", 70, 60, (1, 2)), ("2nd", 80, 60, (1, 2)), ("2nd", 80, 70, (1, 2)),
                                       ("2nd", 50, 60, (1, 2)), ("2nd", 54, 60, (1, 2)), ("2nd", 54, 60, (1, 4)),
                                       ("1st", 54, 60, (1, 2)), ("1st", 54, 60, (1, 4))):
         ratio = orifice_ratio(data_dir, packing, D, D_ref, window)
-        lines.append(f"| Q({D})/Q({D_ref}) | {packing} | {_window(window)} | {ratio.value:.3f} ± {ratio.se:.3f} "
+        lines.append(f"| Q({D})/Q({D_ref}) | {packing} | {window_text(window)} | {ratio.value:.3f} ± {ratio.se:.3f} "
                      f"| {np.exp(KAPPA_PAPER * (D - D_ref)):.2f} | {(D / D_ref) ** 2.5:.2f} |")
     lines += ["", "## kappa (1/mm), second packing, 1–2 s", "",
               "| orifices (mm) | errors | kappa | chi2 | dof |", "|---|---|---|---|---|"]
@@ -515,7 +517,7 @@ def plot_same_window(data_dir, path):
                             ms=4, capsize=2)
         fs = sorted(rates)
         means = [np.mean([r.q for _, r in rates[f]]) for f in fs]
-        ax.plot(np.array(fs) + shift, means, "-", color=colour, label=f"mean over the packings, {_window(window)}")
+        ax.plot(np.array(fs) + shift, means, "-", color=colour, label=f"mean over the packings, {window_text(window)}")
     for packing, marker in markers.items():
         ax.plot([], [], marker, color="grey", label=f"{packing} packing (± block se)")
     ax.set_xlabel("f (Hz)")

@@ -10,7 +10,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from analysis.testing import LiggghtsError, liggghts_binary as _binary, run_deck  # noqa: E402
+from analysis.testing import liggghts_binary as _binary, run_deck  # noqa: E402
 
 # our tests run the documented helper (analysis/testing.py, doc/testing.md),
 # so that it stays right; $SILOKIT_LIGGGHTS or build/bin/liggghts

@@ -22,7 +22,8 @@ shorter than its diameter (error->all, the control).
 import pytest
 
 from analysis.common.deck_blocks import per_pair
-from conftest import LiggghtsError, has_mpirun, run_liggghts
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun, run_liggghts
 from test_jiang_errors import deck as jiang_deck
 from test_spherocylinder import rod_contacts, rod_system
 

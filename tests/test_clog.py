@@ -18,7 +18,8 @@ import pytest
 from analysis.common.deck_blocks import granular_setup, hooke_materials
 from analysis.common.lammps_io import read_dump, thermo_rows
 from analysis.common.tables import read_table
-from conftest import LiggghtsError, has_mpirun
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun
 
 ROOT = Path(__file__).resolve().parent.parent
 D = 0.01

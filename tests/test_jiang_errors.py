@@ -23,7 +23,8 @@ job, so every message checked here is one that reaches such a file.
 
 import pytest
 
-from conftest import LiggghtsError, has_mpirun, run_liggghts
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun, run_liggghts
 from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pair
 
 RADIUS = 0.005

@@ -134,7 +134,7 @@ def test_no_rolling_resistance_no_equilibrium(run, tmp_path):
 
 
 def test_an_unknown_model_is_an_error(run):
-    from conftest import LiggghtsError
+    from analysis.testing import LiggghtsError
     with pytest.raises(LiggghtsError) as caught:
         run(disc_on_disc_deck("rough", 0.0))
     assert "Label wasn't found" in caught.value.message

@@ -286,7 +286,7 @@ def test_rain_fill_and_height_change_the_rows_and_where_they_start(tmp_path):
     ("in.runon", {"time": 0}, "in.runon: ERROR: time = 0 must be > 0"),
 ])
 def test_bad_deck_values_stop_with_an_error(tmp_path, name, variables, expected):
-    from conftest import LiggghtsError
+    from analysis.testing import LiggghtsError
     with pytest.raises(LiggghtsError) as caught:
         run_liggghts(deck(name), tmp_path, variables={"inputs": INPUTS, **variables})
     assert "Label wasn't found" in caught.value.message

@@ -17,7 +17,8 @@ import pytest
 from analysis.common.deck_blocks import granular_setup, hooke_materials
 from analysis.common.lammps_io import read_dump, thermo_rows
 from analysis.common.tables import read_table
-from conftest import LiggghtsError, has_mpirun
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

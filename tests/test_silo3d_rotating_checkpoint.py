@@ -198,7 +198,7 @@ def test_a_settling_resumed_from_its_checkpoint_ends_as_the_uninterrupted_one(tm
 
 
 def test_settle_resume_with_a_packing_read_is_refused_with_its_message(tmp_path, liggghts_binary):
-    from conftest import LiggghtsError
+    from analysis.testing import LiggghtsError
     with pytest.raises(LiggghtsError) as error:
         run_deck(tmp_path, {**SETTLE, "settle_resume": 1, "read_packing": 1, "checkpoint": "x"})
     assert "settle_resume goes on with a settling" in error.value.output

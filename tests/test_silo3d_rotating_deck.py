@@ -26,7 +26,8 @@ from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
 from analysis.silo3d_rotating.flow import stationary_flow_rate
 from analysis.silo3d_rotating.records import read_run_info
-from conftest import ROOT, LiggghtsError, has_mpirun
+from analysis.testing import LiggghtsError
+from conftest import ROOT, has_mpirun
 
 DECK = ROOT / "inputs" / "silo3d_rotating" / "in.silo3d_rotating"
 MASS = 620.0 * math.pi / 6.0 * 0.0099 ** 3

@@ -20,7 +20,8 @@ import pytest
 
 from analysis.common.deck_blocks import hooke_materials
 from analysis.common.lammps_io import read_dump
-from conftest import LiggghtsError, has_mpirun, run_liggghts
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

@@ -10,7 +10,8 @@ test_spherocylinder.py, which by itself warns of nothing.
 
 import pytest
 
-from conftest import LiggghtsError, has_mpirun, run_liggghts
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun, run_liggghts
 from test_spherocylinder import rod_deck
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)

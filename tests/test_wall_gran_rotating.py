@@ -33,7 +33,8 @@ from analysis.common.deck_blocks import granular_setup, hooke_materials, per_pai
 from analysis.common.lammps_io import read_dump
 from analysis.common.tables import read_table
 from analysis.common.stl import annulus_triangles, write_stl
-from conftest import LiggghtsError, has_mpirun, run_liggghts
+from analysis.testing import LiggghtsError
+from conftest import has_mpirun, run_liggghts
 
 pytestmark = pytest.mark.engine   # runs the built LIGGGHTS (tools/test.sh --fast leaves it out)
 

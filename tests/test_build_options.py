@@ -134,31 +134,57 @@ def scalar_functions():
             if line.strip() and not line.strip().startswith("#")]
 
 
-@pytest.mark.engine
-def test_the_hertz_contact_functions_are_built_scalar():
-    """The Hertz model's functions of SILOKIT_SCALAR_FUNCTIONS are in the
-    binary (under their symbol, or the one LTO gives a local copy) and
-    execute no packed multiplication. With the vectoriser on, CI's build of
-    d2ca70c had 6 `mulpd` in the normal model and 22 in the pair's
-    compute_force (doc/build.md, "mesh_tet: a load the store buffer cannot
-    serve"); a renamed or missing symbol fails here rather than silently
-    leaving the function vectorised."""
+def text_symbols():
+    """{symbol: (address, size)} of the code in the tested binary."""
     if not LIGGGHTS.exists():
         pytest.fail(f"{LIGGGHTS} is missing: build it with tools/build.sh")
-    names = scalar_functions()
-    assert len(names) == 3 and all(name.startswith("_ZN8LIGGGHTS") for name in names)
     symbols = {}
     for line in subprocess.run(["nm", "-S", str(LIGGGHTS)], capture_output=True, text=True,
                                check=True).stdout.splitlines():
         fields = line.split()
         if len(fields) == 4 and fields[2] in "Tt":
             symbols[fields[3]] = (int(fields[0], 16), int(fields[1], 16))
+    return symbols
+
+
+def disassembly(symbols, name):
+    """The instructions of one function of the tested binary, found under its
+    symbol or the one LTO gives a local copy (".lto_priv.0")."""
+    found = [s for s in (name, name + ".lto_priv.0") if s in symbols]
+    assert found, f"{name} is not in {LIGGGHTS}"
+    start, size = symbols[found[0]]
+    code = subprocess.run(["objdump", "-d", "--no-show-raw-insn", f"--start-address={start}",
+                           f"--stop-address={start + size}", str(LIGGGHTS)],
+                          capture_output=True, text=True, check=True).stdout
+    assert code.count("\n") > 100, f"{found[0]}: no code disassembled"
+    return code
+
+
+@pytest.mark.engine
+def test_the_hertz_contact_functions_are_built_scalar():
+    """The Hertz model's functions of SILOKIT_SCALAR_FUNCTIONS are in the
+    binary and execute no packed multiplication. With the vectoriser on,
+    CI's build of d2ca70c had 6 `mulpd` in the normal model and 22 in the
+    pair's compute_force (doc/build.md, "mesh_tet: a load the store buffer
+    cannot serve"); a renamed or missing symbol fails here rather than
+    silently leaving the function vectorised."""
+    names = scalar_functions()
+    assert len(names) == 3 and all(name.startswith("_ZN8LIGGGHTS") for name in names)
+    symbols = text_symbols()
     for name in names:
-        found = [s for s in (name, name + ".lto_priv.0") if s in symbols]
-        assert found, f"{name} is not in {LIGGGHTS}"
-        start, size = symbols[found[0]]
-        code = subprocess.run(["objdump", "-d", "--no-show-raw-insn", f"--start-address={start}",
-                               f"--stop-address={start + size}", str(LIGGGHTS)],
-                              capture_output=True, text=True, check=True).stdout
-        assert code.count("\n") > 100, f"{found[0]}: no code disassembled"
-        assert "mulpd" not in code, f"{found[0]} is vectorised: it has packed multiplications"
+        assert "mulpd" not in disassembly(symbols, name), \
+            f"{name} is vectorised: it has packed multiplications"
+
+
+@pytest.mark.engine
+def test_the_multicontact_pre_force_copies_inline():
+    """FixMultiContactHalfSpace::pre_force copies its 4-double vectors
+    inline, as Debian's binary does. Without -fno-tree-loop-distribute-patterns
+    on its file (CMakeLists.txt), GCC made 7 memcpy calls of them (CI's
+    builds of d2ca70c and 81138d3), and the hydrogel_multicontact tutorial
+    ran 1.6-1.8 % slower than Debian's (doc/build.md, "hydrogel_multicontact:
+    memcpy for four doubles")."""
+    code = disassembly(text_symbols(), "_ZN9LAMMPS_NS24FixMultiContactHalfSpace9pre_forceEi")
+    assert "call" in code, "pre_force calls nothing: not the function this test reads"
+    calls = [line for line in code.splitlines() if "call" in line and ("memcpy" in line or "memmove" in line)]
+    assert not calls, "pre_force calls memcpy:\n" + "\n".join(calls)

@@ -12,7 +12,7 @@ import pytest
 
 from analysis.results_tables import DATA_DIR
 from analysis.silo3d_rotating import elongation
-from analysis.silo3d_rotating.results import FIG2C, ORIFICES, PACKINGS, markdown_rows
+from analysis.silo3d_rotating.results import FIG2C, ORIFICES, PACKINGS, SPHERES, markdown_rows
 
 SEED = PACKINGS["2nd"]
 
@@ -56,6 +56,24 @@ def test_the_3_3_point_is_the_ratio_of_the_two_runs_rates_per_packing(panel, f, 
     values = [p[1] for p in point.ratio.parts]
     assert min(values) <= point.ratio.value <= max(values)
     assert point.planned == 3 and point.window == (2, 4)
+
+
+@pytest.mark.parametrize("panel, f, f_ref", [("a", 0.32, 0.0), ("b", 1.28, 0.32)])
+def test_the_spheres_point_is_the_ratio_of_the_two_runs_rates_per_packing(panel, f, f_ref):
+    """L/d = 1: the spheres' 2 s runs at 60 mm (the cross-host bench's
+    LIGGGHTS runs), over 0.5-2 s, all three packings."""
+    point = next(p for p in elongation.fig3_points(DATA_DIR) if p.aspect == 1.0 and p.panel == panel)
+    assert [p[0] for p in point.ratio.parts] == list(PACKINGS.values())
+    for seed, value, se in point.ratio.parts:
+        slope_f, ends_f = rates_over(DATA_DIR / SPHERES[60, f, seed], 0.5, 2.0)
+        slope_ref, ends_ref = rates_over(DATA_DIR / SPHERES[60, f_ref, seed], 0.5, 2.0)
+        assert value == pytest.approx(ends_f / ends_ref, rel=1e-9)
+        # two estimates of one rate: a straight line through 1.5 s of
+        # bursts and the ends differ by noise, within two of its errors
+        assert abs(value - slope_f / slope_ref) < 2 * se, (seed, value, slope_f / slope_ref, se)
+    values = [p[1] for p in point.ratio.parts]
+    assert min(values) <= point.ratio.value <= max(values)
+    assert point.planned == 3 and point.window == (0.5, 2)
 
 
 def test_the_orifice_averages_at_0_32_hz_are_the_campaign_analysis_own():

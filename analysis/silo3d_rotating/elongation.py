@@ -11,9 +11,9 @@ campaign runs. Both rates of a ratio are taken over the same window, per
 packing, and the packings' ratios are combined (results.paired,
 results.spheres_paired, results.combine):
 
-- L/d = 1: the spheres' 2 s runs at 60 mm (results.SPHERES), 0.5-2 s.
-  There is no spheres run at 1.28 Hz at 60 mm (only at 42 mm), so Fig. 3b
-  has no sphere point.
+- L/d = 1: the spheres' 2 s runs at 60 mm (results.SPHERES: the LIGGGHTS
+  runs of bench/silo3d_cross_host_paper.py, f = 0, 0.32 and 1.28 Hz),
+  0.5-2 s.
 - L/d = 3.3: the Fig. 2c campaign's runs (results.FIG2C), 2-4 s.
 - L/d = 2.5 and 4.0: the elongation campaign's archives
   (examples/silo3d_rotating/rods_elongation.sh),
@@ -65,7 +65,7 @@ from analysis.silo3d_rotating.acceleration import frame_spacing
 from analysis.silo3d_rotating.fields import in_flow, orifice_summary
 from analysis.silo3d_rotating.flow import BLOCKS, progress, seed_mean_ci
 from analysis.silo3d_rotating.records import key_value, load_run, read_run_info
-from analysis.silo3d_rotating.results import (FIG2C, ORIFICES, PACKINGS, PAGE_SECTIONS, SPHERES, combine, markdown_rows,
+from analysis.silo3d_rotating.results import (FIG2C, ORIFICES, PACKINGS, PAGE_SECTIONS, SPHERES, markdown_rows,
                                               paired, rate_text, spheres_paired, window_rate, window_text)
 
 D_MM = 60
@@ -172,10 +172,10 @@ class Point:
 def fig3_points(data_dir=DATA_DIR):
     """Fig. 3's points, L/d by L/d, panel a before b (the module's docstring)."""
     data_dir = Path(data_dir)
-    spheres = spheres_paired(data_dir, D_MM, *PANELS["a"], window=SPHERES_WINDOW)
-    points = [Point(1.0, "a", spheres, SPHERES_WINDOW, len(PACKINGS)),
-              Point(1.0, "b", combine([]), SPHERES_WINDOW, 0,
-                    f"no run: no spheres run at {F_FAST:g} Hz at D = {D_MM} mm (only at 42 mm)")]
+    points = []
+    for panel in PANELS:
+        spheres = spheres_paired(data_dir, D_MM, *PANELS[panel], window=SPHERES_WINDOW)
+        points.append(Point(1.0, panel, spheres, SPHERES_WINDOW, len(PACKINGS), "" if spheres.n else "under way"))
     points += [rod_point(data_dir, aspect, panel) for aspect in ASPECTS[1:] for panel in PANELS]
     return points
 
@@ -274,7 +274,7 @@ def orifice_points(data_dir=DATA_DIR):
     data_dir = Path(data_dir)
     points = [OrificePoint(1.0, f, SPHERES_WINDOW, {}, 0, len(PACKINGS),
                            "none archived: the spheres' runs at 60 mm kept no dumps nor orifice series")
-              for f in PANELS["a"][::-1]]
+              for f in FREQUENCIES]
     for aspect in ASPECTS[1:]:
         runs, packings = rod_runs(data_dir, aspect)
         for f in FREQUENCIES:
@@ -309,7 +309,7 @@ def runs_table(data_dir):
     """Q of every run Fig. 3 uses or waits for, over its window."""
     lines = ["| L/d | f (Hz) | packing | window | Q (kg/s) | run |", "|---|---|---|---|---|---|"]
     planned = [(1.0, f, packing, SPHERES[D_MM, f, seed], SPHERES_WINDOW)
-               for f in PANELS["a"][::-1] for packing, seed in PACKINGS.items()]
+               for f in FREQUENCIES for packing, seed in PACKINGS.items()]
     for aspect in ASPECTS[1:]:
         runs, packings = rod_runs(data_dir, aspect)
         default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in FREQUENCIES}
@@ -381,7 +381,7 @@ def results_rows(data_dir=DATA_DIR):
                          for p in points if p.panel == panel)
         paper = PAPER_TRENDS[panel] + (f"; down to {PAPER_DEEPEST_DROP:.2f} (“by even 70 %”) for its longest rods"
                                        if panel == "a" else "")
-        window = "0.5–2 s (spheres), 2–4 s (rods), both runs" if panel == "a" else "2–4 s, both runs"
+        window = "0.5–2 s (spheres), 2–4 s (rods), both runs"
         rows.append(Row(quantity, paper, ours, window, "open", PAGE_SECTIONS["elongation"]))
     return rows
 
@@ -402,7 +402,7 @@ def plot_fig3(data_dir, path):
             if not point.ratio.n:
                 # beside the paper's star at L/d = 1
                 where = (point.aspect + 0.12, 0.03) if point.aspect == 1.0 else (point.aspect, 0.03)
-                ax.annotate(f"no {F_FAST:g} Hz run" if point.aspect == 1.0 else "under way", where,
+                ax.annotate("under way", where,
                             xycoords=("data", "axes fraction"), rotation=90, fontsize=7, ha="center",
                             va="bottom", color="grey")
                 continue

@@ -66,7 +66,8 @@ ORIFICES = {
 # the same deck and protocol as the first packing's runs in
 # silo3d_rods_axial_acceleration/spheres_f*_2s)
 SPHERES = {
-    **{(60, f, s): f"silo3d_cross_host/liggghts_D0.06_f{f:g}_s{s}" for f in (0.0, 0.32) for s in PACKINGS.values()},
+    **{(60, f, s): f"silo3d_cross_host/liggghts_D0.06_f{f:g}_s{s}" for f in (0.0, 0.32, 1.28)
+       for s in PACKINGS.values()},
     **{(42, f, s): f"silo3d_seeds/D0.042_f{f:g}_s{s}" for f in (0.0, 1.28) for s in PACKINGS.values()},
 }
 ACCELERATION = "silo3d_rods_axial_acceleration"
@@ -175,9 +176,11 @@ def paired(data_dir, f, f_ref, window, packings=PACKINGS, runs=FIG2C):
 
 def spheres_paired(data_dir, D, f, f_ref, window=(0.5, 2)):
     """The spheres' Q(f)/Q(f_ref) at orifice D (mm), per packing whose two
-    2 s runs both flow over the window, combined (combine)."""
+    2 s runs are archived and both flow over the window, combined (combine)."""
     parts = []
     for seed in PACKINGS.values():
+        if not all((data_dir / SPHERES[D, g, seed] / "discharge.txt").exists() for g in (f, f_ref)):
+            continue
         a = window_rate(data_dir / SPHERES[D, f, seed], *window)
         b = window_rate(data_dir / SPHERES[D, f_ref, seed], *window)
         if a is not None and b is not None:

@@ -172,10 +172,8 @@ class Point:
 def fig3_points(data_dir=DATA_DIR):
     """Fig. 3's points, L/d by L/d, panel a before b (the module's docstring)."""
     data_dir = Path(data_dir)
-    points = []
-    for panel in PANELS:
-        spheres = spheres_paired(data_dir, D_MM, *PANELS[panel], window=SPHERES_WINDOW)
-        points.append(Point(1.0, panel, spheres, SPHERES_WINDOW, len(PACKINGS), "" if spheres.n else "under way"))
+    points = [Point(1.0, panel, spheres_paired(data_dir, D_MM, *PANELS[panel], window=SPHERES_WINDOW),
+                    SPHERES_WINDOW, len(PACKINGS)) for panel in PANELS]
     points += [rod_point(data_dir, aspect, panel) for aspect in ASPECTS[1:] for panel in PANELS]
     return points
 

@@ -40,8 +40,9 @@ def progress(message):
     print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
 
 
-def run_deck(deck, workdir, binary=OUR_BINARY):
-    """Writes `deck` to workdir/in.deck, runs it serially with `binary` and
+def run_deck(deck, workdir, binary=OUR_BINARY, env=None):
+    """Writes `deck` to workdir/in.deck, runs it serially with `binary` (with
+    the variables of `env`, name -> value, added to this environment) and
     returns a dict: output (screen text), loops (list of (seconds, steps,
     atoms), one per `run`), pair_times (the `Pair time` of each run, seconds),
     cpu (user+system seconds of the LIGGGHTS process, start-up included),
@@ -50,10 +51,11 @@ def run_deck(deck, workdir, binary=OUR_BINARY):
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
     command = [str(binary), "-in", "in.deck", "-log", "none"]
+    env = {**os.environ, **env} if env else None
     start = time.perf_counter()
     with open(workdir / "screen.txt", "w") as screen:
         process = subprocess.Popen(command, cwd=workdir, stdout=screen,
-                                   stderr=subprocess.STDOUT)
+                                   stderr=subprocess.STDOUT, env=env)
         # wait4 hands back the resource usage of exactly this process
         _, status, usage = os.wait4(process.pid, 0)
     process.returncode = os.waitstatus_to_exitcode(status)
@@ -64,7 +66,7 @@ def run_deck(deck, workdir, binary=OUR_BINARY):
     if process.returncode != 0 or errors:
         raise LiggghtsFailed(f"{binary} failed in {workdir}: "
                              f"{errors[0] if errors else 'exit code %d' % process.returncode}\n"
-                             f"{_error_context(command, workdir)}")
+                             f"{_error_context(command, workdir, env)}")
     loops = loop_lines(output)
     # the pair part of each run's loop time (LIGGGHTS' timing breakdown)
     pair_times = [float(t) for t in PAIR_TIME.findall(output)]
@@ -77,12 +79,12 @@ def loop_lines(output):
     return [(float(t), int(steps), int(atoms)) for t, procs, steps, atoms in LOOP_TIME.findall(output)]
 
 
-def _error_context(command, workdir):
+def _error_context(command, workdir, env=None):
     """LIGGGHTS buffers its screen output, and an MPI abort loses what was
     not flushed (often the ERROR line itself): rerun with line buffering to
     show the end of the output."""
     try:
-        rerun = subprocess.run(["stdbuf", "-oL", "-eL"] + command, cwd=workdir,
+        rerun = subprocess.run(["stdbuf", "-oL", "-eL"] + command, cwd=workdir, env=env,
                                capture_output=True, text=True, errors="replace", timeout=600)
         lines = (rerun.stdout + rerun.stderr).splitlines()
         return "\n".join(lines[-15:])
@@ -183,12 +185,13 @@ def command_line():
     return " ".join(shlex.quote(part) for part in ["/usr/bin/python3", str(script)] + sys.argv[1:])
 
 
-def provenance(extra_load=None):
-    """Markdown lines: machine, date, command, commit."""
+def provenance(extra_load=None, load_when="at the end"):
+    """Markdown lines: machine, date, command, commit (load_when: when this
+    is called, for the load average's label)."""
     info = machine()
     lines = [
         f"- machine: {info['nproc']} cores, {info['cpu']}, {info['system']}",
-        f"- date: {info['date']}; load average at the end (1/5/15 min): {info['load']}"
+        f"- date: {info['date']}; load average {load_when} (1/5/15 min): {info['load']}"
         + (f"; at the start: {extra_load}" if extra_load else ""),
         f"- command (from the repository root): `{command_line()}`",
         f"- silokit commit: {git_commit()}; binary: {binary_identity(OUR_BINARY)}",

@@ -11,15 +11,16 @@ line per run and a table of t_b / t_a per offset (doc/build.md,
 A_BINARY defaults to build/bin/liggghts, B_BINARY to Debian's
 /usr/bin/liggghts. A run's time is the sum of its `Loop time` lines. Each
 run's line `repetition offset binary loop_seconds` (binary a or b) is
-appended to bench/results/heap_offset.txt as soon as it is measured, after
+appended to bench/results/heap_offset.txt (or --raw NAME) as soon as it is measured, after
 a header with the machine, the commit and both binaries; --table FILE
 prints the table of such a file (an interrupted one too) without running.
 --quick: 20 steps, one repetition, offsets 0 16, output under
 bench/work/quick/. About 24 min for the defaults.
 
     /usr/bin/python3 bench/heap_offset.py                    # 8 offsets, 3 repetitions, 2000 steps
-    /usr/bin/python3 bench/heap_offset.py --quick /work/ci-run8/build/bin/liggghts
+    /usr/bin/python3 bench/heap_offset.py --quick build-other/bin/liggghts   # smoke run, another build as A
     /usr/bin/python3 bench/heap_offset.py --deck cohesion/in.cohesion --offsets 0 64 --repetitions 5
+    /usr/bin/python3 bench/heap_offset.py --raw heap_offset_rolled  # a new raw file
     /usr/bin/python3 bench/heap_offset.py --table bench/results/heap_offset.txt
 """
 
@@ -83,6 +84,9 @@ def main():
     parser.add_argument("--offsets", type=int, nargs="+", default=OFFSETS, metavar="K",
                         help="heap offsets in bytes (default: %(default)s)")
     parser.add_argument("--cpu", type=int, default=1, metavar="N", help="the core every run is pinned to")
+    parser.add_argument("--raw", default="heap_offset", metavar="NAME",
+                        help="the raw file, bench/results/NAME.txt (default: %(default)s): another name "
+                             "keeps an earlier measurement that a page quotes")
     parser.add_argument("--table", type=Path, metavar="FILE", help="print the table of a raw file and stop")
     args = parser.parse_args()
     if args.table:
@@ -113,7 +117,7 @@ def main():
     header += [f"{name}: {benchlib.binary_identity(b)}" for name, b in binaries.items()]
     header += benchlib.provenance(load_when="at the start").splitlines()
     header += ["repetition offset binary loop_seconds"]
-    raw = benchlib.write_raw("heap_offset", "".join(f"# {line}\n" for line in header))
+    raw = benchlib.write_raw(args.raw, "".join(f"# {line}\n" for line in header))
     for rep in range(1, args.repetitions + 1):
         for k in args.offsets:
             for name, binary in binaries.items():

@@ -20,7 +20,7 @@
 #   refused (-Werror=coverage-mismatch).
 #
 # Expects: target liggghts, function silokit_liggghts_executable,
-# SILOKIT_OPTIMIZATION_FLAGS, SILOKIT_SCALAR_OPTIONS.
+# SILOKIT_OPTIMIZATION_FLAGS, SILOKIT_FUNCTION_OPTIONS.
 
 # On by default with GCC (doc/accuracy_cost_rolling.md, "Speed": the two
 # together are the fastest build measured); another compiler builds without.
@@ -44,8 +44,8 @@ if(SILOKIT_LTO)
   # compiles the code again and should do it as the compile step would.
   target_compile_options(liggghts PRIVATE -flto=${SILOKIT_LTO_JOBS} -fno-fat-lto-objects)
   target_link_options(liggghts PRIVATE -flto=${SILOKIT_LTO_JOBS} ${SILOKIT_OPTIMIZATION_FLAGS})
-  # the functions left scalar (CMakeLists.txt): the link compiles them
-  target_link_options(liggghts PRIVATE ${SILOKIT_SCALAR_OPTIONS})
+  # the functions left scalar or rolled (CMakeLists.txt): the link compiles them
+  target_link_options(liggghts PRIVATE ${SILOKIT_FUNCTION_OPTIONS})
   message(STATUS "silokit: link-time optimisation on (-flto=${SILOKIT_LTO_JOBS})")
 endif()
 

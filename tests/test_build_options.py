@@ -125,9 +125,10 @@ def test_a_reconfigure_leaves_the_version_header_as_it_was(tmp_path):
     assert not (build / "liggghts" / ".silokit-version_liggghts.h").exists()
 
 
-def scalar_functions(variable="SILOKIT_SCALAR_FUNCTIONS"):
-    """SILOKIT_SCALAR_FUNCTIONS of CMakeLists.txt (or another list of
-    symbols there): the symbols GCC's SLP vectoriser is told to leave alone."""
+def listed_functions(variable):
+    """The symbols a list of CMakeLists.txt names: SILOKIT_SCALAR_FUNCTIONS
+    (GCC's SLP vectoriser leaves them alone), SILOKIT_ROLLED_FUNCTIONS (its
+    loop unroller does)."""
     text = (ROOT / "CMakeLists.txt").read_text()
     block = text[text.index(f"set({variable}"):]
     block = block[:block.index(")\n")]
@@ -169,7 +170,7 @@ def test_the_hertz_contact_functions_are_built_scalar():
     pair's compute_force (doc/build.md, "mesh_tet: a load the store buffer
     cannot serve"); a renamed or missing symbol fails here rather than
     silently leaving the function vectorised."""
-    names = scalar_functions()
+    names = listed_functions("SILOKIT_SCALAR_FUNCTIONS")
     assert len(names) == 3 and all(name.startswith("_ZN8LIGGGHTS") for name in names)
     symbols = text_symbols()
     for name in names:
@@ -197,10 +198,10 @@ def test_the_multicontact_pair_searches_its_partners_in_a_rolled_loop():
     searches a contact's partner list in a rolled loop, as Debian's binary
     does. LIGGGHTS' -funroll-loops copied the search 8 times: 8
     conditional exits to one label, 15-17 to each of the function's three
-    busiest (CI's build of 949f9f5), and the hydrogel_multicontact tutorial
+    busiest (CI's build of b06b852), and the hydrogel_multicontact tutorial
     ran 0.5 % slower than Debian's; rolled, no label has more than 4
     (doc/build.md, "hydrogel_multicontact: the unrolled partner search")."""
-    names = scalar_functions("SILOKIT_ROLLED_FUNCTIONS")
+    names = listed_functions("SILOKIT_ROLLED_FUNCTIONS")
     assert len(names) == 1 and "GranStyleILi3ELi2ELi0ELi0ELi2E" in names[0]
     code = disassembly(text_symbols(), names[0])
     targets = collections.Counter(

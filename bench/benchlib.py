@@ -40,6 +40,15 @@ def progress(message):
     print(f"[{time.strftime('%H:%M:%S')}] {message}", flush=True)
 
 
+def pin_to_cpu(cpu):
+    """Runs this process, and every engine it starts, on core `cpu` only
+    (children inherit the affinity); stops with a message if that core is
+    not one this process may use."""
+    if cpu not in os.sched_getaffinity(0):
+        sys.exit(f"--cpu {cpu}: not one of this process' cores {sorted(os.sched_getaffinity(0))}")
+    os.sched_setaffinity(0, {cpu})
+
+
 def run_deck(deck, workdir, binary=OUR_BINARY, env=None):
     """Writes `deck` to workdir/in.deck, runs it serially with `binary` (with
     the variables of `env`, name -> value, added to this environment) and

@@ -26,7 +26,6 @@ bench/work/quick/. About 24 min for the defaults.
 
 import argparse
 import collections
-import os
 import shutil
 import statistics
 import subprocess
@@ -99,9 +98,7 @@ def main():
     for binary in binaries.values():
         if not binary.exists():
             sys.exit(f"{binary}: no such binary")
-    if args.cpu not in os.sched_getaffinity(0):
-        sys.exit(f"--cpu {args.cpu}: not one of this process' cores {sorted(os.sched_getaffinity(0))}")
-    os.sched_setaffinity(0, {args.cpu})      # gcc and the engines inherit it
+    benchlib.pin_to_cpu(args.cpu)      # gcc and the engines too
     if stock_tutorials.prerequisites(stock_tutorials.TUTORIALS, args.deck):
         sys.exit(f"{args.deck} reads a restart file another deck writes: not supported here")
 

@@ -64,7 +64,6 @@ stock_tutorials_<section>.txt); with --quick, under bench/work/quick/.
 """
 
 import argparse
-import os
 import re
 import shutil
 import sys
@@ -395,9 +394,7 @@ def main():
     if args.section is not None and not re.fullmatch(r"[a-z0-9_]+", args.section):
         sys.exit(f"--section {args.section!r}: lower-case letters, digits and _ only")
     if args.cpu is not None:
-        if args.cpu not in os.sched_getaffinity(0):
-            sys.exit(f"--cpu {args.cpu}: not one of this process' cores {sorted(os.sched_getaffinity(0))}")
-        os.sched_setaffinity(0, {args.cpu})      # the engines inherit it
+        benchlib.pin_to_cpu(args.cpu)
     if not args.tutorials.is_dir():
         sys.exit(f"{args.tutorials}: no such directory (apt-get install liggghts-doc)")
 

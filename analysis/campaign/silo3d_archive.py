@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.silo3d_rotating.analyse import map_field
 from analysis.silo3d_rotating.records import read_run_info
 from analysis.common.cli import command_line
 
@@ -49,22 +50,15 @@ def run_label(info):
     return f"f{info['f']:g}_D{info['D'] * 1e3:g}mm_seed{info['seed']:.0f}"
 
 
-def field_name(key):
-    """The field of a fields.npz array `<name>_<window>`; None for the
-    grid and the windows (r, z, r_edges, ..., frames)."""
-    name, _, window = key.rpartition("_")
-    return name if window.isdigit() else None
-
-
 def pack_fields(source, target):
     """fields.npz with its fields (the arrays `<name>_<window>`) as float32,
     those of DROPPED_FIELDS left out: the map means changed by < 1e-7 of
     each field's scale; the grid and windows as they are. Source and target
     may be the same file (an archive packed again)."""
     with np.load(source) as stored:
-        arrays = {key: stored[key] for key in stored.files if field_name(key) not in DROPPED_FIELDS}
+        arrays = {key: stored[key] for key in stored.files if map_field(key) not in DROPPED_FIELDS}
     for key, values in arrays.items():
-        if field_name(key) is not None and values.dtype == np.float64:
+        if map_field(key) is not None and values.dtype == np.float64:
             arrays[key] = values.astype(np.float32)
     np.savez_compressed(target, **arrays)
 

@@ -393,6 +393,18 @@ def field_settings(args, run, first_masses):
                          args.orifice_every, args.zmax)
 
 
+def map_key(name, window):
+    """The fields.npz array of field `name` in map window `window`."""
+    return f"{name}_{window}"
+
+
+def map_field(key):
+    """The field of a fields.npz array `<name>_<window>` (map_key); None
+    for the grid and the windows (r, z, r_edges, ..., frames)."""
+    name, _, window = key.rpartition("_")
+    return name if window.isdigit() else None
+
+
 def run_fields(args, run, directory):
     """Maps and orifice series of one run; returns its orifice summary."""
     cg_path = run.path / "dump.cg"
@@ -408,7 +420,7 @@ def run_fields(args, run, directory):
     if any(m is not None for m in maps):
         np.savez_compressed(directory / "fields.npz", r=grid.r, z=grid.z, r_edges=grid.r_edges,
                             z_edges=grid.z_edges, windows=np.array(windows), frames=np.array(counts),
-                            **{f"{name}_{w}": values for w, m in enumerate(maps) if m is not None
+                            **{map_key(name, w): values for w, m in enumerate(maps) if m is not None
                                for name, values in m.items()})
         plot_maps(directory, grid, windows, maps)
     if rows:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.silo3d_rotating.analyse import draw_streamlines, in_plane_speed
+from analysis.silo3d_rotating.analyse import draw_streamlines, in_plane_speed, map_field, map_key
 from analysis.common.cli import command_line
 
 # name: (title, the stored map it is made from, how)
@@ -39,13 +39,13 @@ def mean_fields(path):
     NaN, are left out of that window's share)."""
     with np.load(path) as stored:
         frames = stored["frames"].astype(float)
-        names = sorted({key.rsplit("_", 1)[0] for key in stored.files if key.rsplit("_", 1)[-1].isdigit()})
-        windows = [w for w in range(len(frames)) if frames[w] > 0 and f"{names[0]}_{w}" in stored.files]
+        names = sorted({map_field(key) for key in stored.files} - {None})
+        windows = [w for w in range(len(frames)) if frames[w] > 0 and map_key(names[0], w) in stored.files]
         if not windows:
             raise ValueError(f"{path}: no map window with frames")
         means = {}
         for name in names:
-            values = np.stack([stored[f"{name}_{w}"] for w in windows])
+            values = np.stack([stored[map_key(name, w)] for w in windows])
             weights = np.broadcast_to(frames[windows].reshape((-1,) + (1,) * (values.ndim - 1)), values.shape)
             finite = np.isfinite(values)
             total = np.where(finite, weights, 0.0).sum(axis=0)

@@ -210,6 +210,24 @@ def test_the_record_and_the_counts_are_those_of_liggghts(rain, liggghts_rain):
 
 # ------------------------------------------------------------ MPI
 
+def test_the_fix_may_come_before_pair_style(tmp_path, rain):
+    """LAMMPS' granular pairs add their contact-history fix at pair_style,
+    so a fix defined before it runs its pre_exchange first. The fix reads
+    nothing of the pair and moves only grains below the exit plane: the
+    same deck with fix reinject before pair_style writes the same
+    trajectories to the bit (6000 steps, every grain re-entering about
+    twice, contacts with history among the falling grains)."""
+    workdir, _, _ = rain
+    contacts = ("pair_style granular/jiang\n"
+                "pair_coeff * * normal hooke/stiffness 1e4 2857 100 50 friction 0.5")
+    deck = rain_deck()
+    assert deck.count(contacts) == 1
+    late = deck.replace(contacts, "").replace(FIX_LINE, f"{FIX_LINE}\n{contacts}")
+    assert late.index(FIX_LINE) < late.index("pair_style")
+    run_lammps(late, tmp_path)
+    assert (tmp_path / "dump.all").read_bytes() == (workdir / "dump.all").read_bytes()
+
+
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
 @pytest.mark.parametrize("processors", ["processors 2 1 1", "processors 1 1 4"])
 def test_more_ranks_reinject_the_same_grains_at_the_same_spots(tmp_path, rain, processors):

@@ -208,8 +208,6 @@ def test_the_record_and_the_counts_are_those_of_liggghts(rain, liggghts_rain):
             assert c1[axis][k1] == c2[axis][k2]
 
 
-# ------------------------------------------------------------ MPI
-
 def test_the_fix_may_come_before_pair_style(tmp_path, rain):
     """LAMMPS' granular pairs add their contact-history fix at pair_style,
     so a fix defined before it runs its pre_exchange first. The fix reads
@@ -227,6 +225,8 @@ def test_the_fix_may_come_before_pair_style(tmp_path, rain):
     run_lammps(late, tmp_path)
     assert (tmp_path / "dump.all").read_bytes() == (workdir / "dump.all").read_bytes()
 
+
+# ------------------------------------------------------------ MPI
 
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
 @pytest.mark.parametrize("processors", ["processors 2 1 1", "processors 1 1 4"])

@@ -36,6 +36,9 @@ REGION = (-0.025, 0.025, -0.025, 0.025) + LIGGGHTS_REGION[4:]
 SEED = 15485863
 FIX_LINE = (f"fix out all reinject exit z {EXIT} region top seed {SEED} file exits.txt "
             f"rate_window {RATE_WINDOW}")
+# the rain's contact law in LAMMPS (LIGGGHTS' hooke/stiffness in rain_deck)
+LAMMPS_CONTACTS = ("pair_style granular/jiang\n"
+                   "pair_coeff * * normal hooke/stiffness 1e4 2857 100 50 friction 0.5")
 THERMO_COLUMNS = 7                                    # step atoms f_out[1..5]
 DUMP_FORMAT = " ".join(["%d"] + ["%.17g"] * 8)
 LAMMPS_DUMP_FORMAT = f'dump_modify d format line "{DUMP_FORMAT}"'
@@ -65,8 +68,7 @@ atom_modify map array
 boundary p p f
 newton off
 comm_modify vel yes"""
-        contacts = ("pair_style granular/jiang\n"
-                    "pair_coeff * * normal hooke/stiffness 1e4 2857 100 50 friction 0.5")
+        contacts = LAMMPS_CONTACTS
         dump_format = LAMMPS_DUMP_FORMAT
     else:
         head = granular_setup(boundary="p p f")
@@ -216,11 +218,9 @@ def test_the_fix_may_come_before_pair_style(tmp_path, rain):
     trajectories to the bit (6000 steps, every grain re-entering about
     twice, contacts with history among the falling grains)."""
     workdir, _, _ = rain
-    contacts = ("pair_style granular/jiang\n"
-                "pair_coeff * * normal hooke/stiffness 1e4 2857 100 50 friction 0.5")
     deck = rain_deck()
-    assert deck.count(contacts) == 1
-    late = deck.replace(contacts, "").replace(FIX_LINE, f"{FIX_LINE}\n{contacts}")
+    assert deck.count(LAMMPS_CONTACTS) == 1
+    late = deck.replace(LAMMPS_CONTACTS, "").replace(FIX_LINE, f"{FIX_LINE}\n{LAMMPS_CONTACTS}")
     assert late.index(FIX_LINE) < late.index("pair_style")
     run_lammps(late, tmp_path)
     assert (tmp_path / "dump.all").read_bytes() == (workdir / "dump.all").read_bytes()

@@ -81,6 +81,22 @@ def test_the_spheres_point_is_the_ratio_of_the_two_runs_rates_per_packing(panel,
     assert point.planned == 3
 
 
+def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
+    """The by-f figure's Q at L/d = 3.3: the mean of the packings' rates
+    over 2-4 s, each from the mass between the window's end samples, ± the
+    standard error of their spread; at rest the third packing clogs and is
+    left out."""
+    points = {(p.aspect, p.f): p for p in elongation.rate_points(DATA_DIR)}
+    for f, packings in ((0.32, ("1st", "2nd", "3rd")), (0.0, ("1st", "2nd"))):
+        ends = [rates_over(DATA_DIR / FIG2C[packing, f])[1] for packing in packings]
+        point = points[3.3, f]
+        assert point.n == len(packings)
+        assert point.q == pytest.approx(np.mean(ends), rel=1e-9)
+        assert point.se == pytest.approx(np.std(ends, ddof=1) / np.sqrt(len(ends)), rel=1e-9)
+    assert elongation.main(["--figure-by-f", str(tmp_path / "by_f.png")]) == 0
+    assert (tmp_path / "by_f.png").stat().st_size > 10_000
+
+
 def test_the_orifice_averages_at_0_32_hz_are_the_campaign_analysis_own():
     """The 0.32 Hz runs were analysed over 2-4 s, the window of their
     protocol: their rows in the campaign's per-packing tables (made by

@@ -48,6 +48,7 @@ at each end) is left out.
     /usr/bin/python3 -m analysis.silo3d_rotating.elongation --check    # exit 1 if either differs
     /usr/bin/python3 -m analysis.silo3d_rotating.elongation --print    # the table and the results-table rows
     /usr/bin/python3 -m analysis.silo3d_rotating.elongation --figure doc/img/silo3d_rods_fig3_elongation.png
+    /usr/bin/python3 -m analysis.silo3d_rotating.elongation --figure-by-f doc/img/silo3d_rods_elongation_by_f.png
 
 `results_rows(data_dir)` gives Fig. 3's two trends as rows of the page's
 results table (results.results_rows adds them).
@@ -84,6 +85,7 @@ TABLE = "silo3d_rods_elongation.md"        # under doc/data
 PAGE = "doc/silo3d_rotating.md"
 PAGE_BLOCK = "silo3d_rods_elongation"      # the page's <!-- results-table silo3d_rods_elongation --> block
 FIGURE = "doc/img/silo3d_rods_fig3_elongation.png"
+FIGURE_BY_F = "doc/img/silo3d_rods_elongation_by_f.png"
 
 # What the paper (/work/shared/papers/pongo2022_rotating_bottom_silo_rods.md)
 # says about its Fig. 3. Neither the text nor the caption gives a value of
@@ -301,6 +303,79 @@ def orifice_table(points):
     return "\n".join(lines) + "\n"
 
 
+# ---------------------------------------------------------------- Q against f
+
+@dataclass
+class RatePoint:
+    aspect: float
+    f: float
+    window: tuple
+    q: float              # kg/s, the mean over the packings with a rate in the window
+    se: float             # their spread's standard error (one packing: its block error)
+    n: int
+
+
+def rate_points(data_dir=DATA_DIR):
+    """Q (kg/s) per (L/d, f) over each L/d's window, the mean over the
+    packings that have a rate there (a clog or a run not archived has
+    none), as the paper's Figs. 2a-2d at D = 60 mm."""
+    data_dir = Path(data_dir)
+    planned = {(1.0, f): ([SPHERES[D_MM, f, seed] for seed in PACKINGS.values()], SPHERES_WINDOW)
+               for f in FREQUENCIES}
+    for aspect in ASPECTS[1:]:
+        runs, packings = rod_runs(data_dir, aspect)
+        planned.update({(aspect, f): ([runs.get((p, f)) for p in packings], WINDOW) for f in FREQUENCIES})
+    points = []
+    for (aspect, f), (names, window) in planned.items():
+        rates = [rate for name in names if (rate := run_status(data_dir, name, window)[0]) is not None]
+        if rates:
+            q, se, _ = seed_mean_ci([r.q for r in rates], [r.se for r in rates], [BLOCKS - 1] * len(rates))
+            points.append(RatePoint(aspect, f, window, q, se, len(rates)))
+    return points
+
+
+def plot_by_frequency(data_dir, path):
+    """Q and the orifice averages against f, a line per L/d: the paper's
+    Figs. 2a-2d and 8a, 8b, 9a at D = 60 mm, at our three frequencies."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rates = rate_points(data_dir)
+    orifice = [p for p in orifice_points(data_dir) if p.n]
+    fig, axes = plt.subplots(1, 4, figsize=(13, 3.6))
+    fig.subplots_adjust(left=0.05, right=0.99, top=0.85, bottom=0.25, wspace=0.33)
+    colours = dict(zip(ASPECTS, ("tab:grey", "tab:green", "tab:blue", "tab:purple")))
+    for aspect in ASPECTS:
+        label = f"L/d = {_aspect(aspect)}"
+        mine = sorted((p for p in rates if p.aspect == aspect), key=lambda p: p.f)
+        if mine:
+            axes[0].errorbar([p.f for p in mine], [p.q for p in mine], yerr=[p.se for p in mine], marker="o",
+                             color=colours[aspect], capsize=2, label=label)
+            for p in mine:
+                axes[0].annotate(str(p.n), (p.f, p.q), xytext=(4, 3), textcoords="offset points", fontsize=6,
+                                 color=colours[aspect])
+        for ax, quantity in zip(axes[1:], ORIFICE_QUANTITIES):
+            theirs = sorted((p for p in orifice if p.aspect == aspect), key=lambda p: p.f)
+            if theirs:
+                ax.errorbar([p.f for p in theirs], [p.values[quantity][0] for p in theirs],
+                            yerr=[p.values[quantity][1] for p in theirs], marker="o", color=colours[aspect],
+                            capsize=2)
+    axes[0].set_ylabel("Q (kg/s)")
+    axes[0].set_ylim(bottom=0)
+    for ax, name in zip(axes[1:], ORIFICE_QUANTITIES.values()):
+        ax.set_ylabel(name)
+    for ax in axes:
+        ax.set_xlabel("f (Hz)")
+        ax.set_xticks(FREQUENCIES)
+        ax.set_xlim(-0.12, F_FAST + 0.17)
+    fig.legend(loc="lower center", ncols=len(ASPECTS), fontsize=8)
+    fig.suptitle(f"D = {D_MM} mm: Q (the number: packings) and the orifice averages against f, "
+                 f"over {window_text(WINDOW)} (spheres: {window_text(SPHERES_WINDOW)}; no orifice series)",
+                 fontsize=9)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 # ---------------------------------------------------------------- tables
 
 def runs_table(data_dir):
@@ -445,12 +520,18 @@ def main(argv=None):
     action.add_argument("--check", action="store_true", help="exit 1 if the table or the page's block differs")
     action.add_argument("--print", action="store_true", help="print the table and the results-table rows")
     action.add_argument("--figure", type=Path, metavar="PNG", help=f"plot Fig. 3 (the page's: {FIGURE})")
+    action.add_argument("--figure-by-f", type=Path, metavar="PNG",
+                        help=f"plot Q and the orifice averages against f (the page's: {FIGURE_BY_F})")
     parser.add_argument("--data-dir", type=Path, default=DATA_DIR, help="doc/data (default %(default)s)")
     parser.add_argument("--page", type=Path, default=ROOT / PAGE, help="the scene's page (default %(default)s)")
     args = parser.parse_args(argv)
     if args.figure:
         plot_fig3(args.data_dir, args.figure)
         progress(f"elongation: wrote {args.figure}")
+        return 0
+    if args.figure_by_f:
+        plot_by_frequency(args.data_dir, args.figure_by_f)
+        progress(f"elongation: wrote {args.figure_by_f}")
         return 0
     text = data_table(args.data_dir)
     if args.print:

@@ -441,6 +441,10 @@ def page_table(data_dir=DATA_DIR):
 
 # ---------------------------------------------------------------- the page's results rows
 
+def _packings(n):
+    return f"{n} packing{'s' if n != 1 else ''}"
+
+
 def results_rows(data_dir=DATA_DIR):
     """Fig. 3's two trends as rows of the page's results table (added
     there by results.results_rows). Their verdict stays "open": the trend
@@ -449,13 +453,14 @@ def results_rows(data_dir=DATA_DIR):
     rows = []
     for panel, quantity in (("a", f"Q_min/Q(0) against L/d, D = {D_MM} mm (Fig. 3a; Q_min = Q({F_MIN:g} Hz))"),
                             ("b", f"Q({F_FAST:g} Hz)/Q_min against L/d, D = {D_MM} mm (Fig. 3b)")):
-        ours = "; ".join(f"L/d = {_aspect(p.aspect)}: {p.value_cell()}" + (f" ({p.ratio.n} packings)" if p.ratio.n
-                                                                          else "")
+        ours = "; ".join(f"L/d = {_aspect(p.aspect)}: {p.value_cell()}"
+                         + (f" ({_packings(p.ratio.n)})" if p.ratio.n else "")
                          for p in points if p.panel == panel)
         paper = PAPER_TRENDS[panel] + (f"; down to {PAPER_DEEPEST_DROP:.2f} (“by even 70 %”) for its longest rods"
                                        if panel == "a" else "")
         window = "0.5–2 s (spheres), 2–4 s (rods), both runs"
-        rows.append(Row(quantity, paper, ours, window, "open", PAGE_SECTIONS["elongation"]))
+        # the cut against L/d is the paper's central claim: a headline
+        rows.append(Row(quantity, paper, ours, window, "open", PAGE_SECTIONS["elongation"], headline=panel == "a"))
     return rows
 
 
@@ -483,7 +488,7 @@ def plot_fig3(data_dir, path):
                 ax.errorbar(point.aspect + 0.08 * (k + 1), value, yerr=se, fmt=".", color="tab:blue", alpha=0.4,
                             ms=4, capsize=1.5)
             ax.errorbar(point.aspect, point.ratio.value, yerr=point.ratio.se, fmt="o", color="tab:blue", capsize=3)
-            ax.annotate(f"{point.ratio.n} packings,\n{window_text(point.window)}", (point.aspect, point.ratio.value),
+            ax.annotate(f"{_packings(point.ratio.n)},\n{window_text(point.window)}", (point.aspect, point.ratio.value),
                         xytext=(-8, 0), textcoords="offset points", fontsize=7, ha="right", va="center")
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)

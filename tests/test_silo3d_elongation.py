@@ -81,6 +81,24 @@ def test_the_spheres_point_is_the_ratio_of_the_two_runs_rates_per_packing(panel,
     assert point.planned == 3
 
 
+def test_the_4_0_point_is_the_ratio_of_the_two_runs_rates_per_packing():
+    """L/d = 4.0, Fig. 3a: each packing whose runs at rest and at 0.32 Hz
+    are both archived in the campaign's store gives a part (the first
+    packing, at least), from the same 2-4 s of both; a straight line
+    through the bursts lands within two of its errors."""
+    point = elongation.rod_point(DATA_DIR, 4.0, "a")
+
+    def run_dir(packing, f):
+        return DATA_DIR / elongation.store(4.0) / f"D0.06_f{f:g}_s{PACKINGS[packing]}"
+
+    both = [p for p in elongation.CAMPAIGN_PACKINGS
+            if all((run_dir(p, f) / "discharge.txt").exists() for f in (0.0, 0.32))]
+    assert "1st" in both
+    assert [p[0] for p in point.ratio.parts] == both
+    assert_parts_are_rate_ratios(point, run_dir, 0.32, 0.0, (2, 4), within=2)
+    assert point.planned == 2
+
+
 def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
     """The by-f figure's Q at L/d = 3.3: the mean of the packings' rates
     over 2-4 s, each from the mass between the window's end samples, ± the

@@ -320,17 +320,15 @@ def rate_points(data_dir=DATA_DIR):
     packings that have a rate there (a clog or a run not archived has
     none), as the paper's Figs. 2a-2d at D = 60 mm."""
     data_dir = Path(data_dir)
-    planned = {(1.0, f): ([SPHERES[D_MM, f, seed] for seed in PACKINGS.values()], SPHERES_WINDOW)
-               for f in FREQUENCIES}
-    for aspect in ASPECTS[1:]:
-        runs, packings = rod_runs(data_dir, aspect)
-        planned.update({(aspect, f): ([runs.get((p, f)) for p in packings], WINDOW) for f in FREQUENCIES})
+    rates = {}
+    for aspect, f, _, name, window in planned_runs(data_dir):
+        rate = run_status(data_dir, name, window)[0]
+        rates.setdefault((aspect, f, window), []).extend([rate] if rate is not None else [])
     points = []
-    for (aspect, f), (names, window) in planned.items():
-        rates = [rate for name in names if (rate := run_status(data_dir, name, window)[0]) is not None]
-        if rates:
-            q, se, _ = seed_mean_ci([r.q for r in rates], [r.se for r in rates], [BLOCKS - 1] * len(rates))
-            points.append(RatePoint(aspect, f, window, q, se, len(rates)))
+    for (aspect, f, window), mine in rates.items():
+        if mine:
+            q, se, _ = seed_mean_ci([r.q for r in mine], [r.se for r in mine], [BLOCKS - 1] * len(mine))
+            points.append(RatePoint(aspect, f, window, q, se, len(mine)))
     return points
 
 
@@ -378,16 +376,23 @@ def plot_by_frequency(data_dir, path):
 
 # ---------------------------------------------------------------- tables
 
-def runs_table(data_dir):
-    """Q of every run Fig. 3 uses or waits for, over its window."""
-    lines = ["| L/d | f (Hz) | packing | window | Q (kg/s) | run |", "|---|---|---|---|---|---|"]
+def planned_runs(data_dir):
+    """(L/d, f, packing, run directory under data_dir, window) of every run
+    Fig. 3 uses or waits for; a run not archived yet under the name the
+    campaign will give it."""
     planned = [(1.0, f, packing, SPHERES[D_MM, f, seed], SPHERES_WINDOW)
                for f in FREQUENCIES for packing, seed in PACKINGS.items()]
     for aspect in ASPECTS[1:]:
         runs, packings = rod_runs(data_dir, aspect)
         default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in FREQUENCIES}
         planned += [(aspect, f, p, runs.get((p, f), default[p, f]), WINDOW) for f in FREQUENCIES for p in packings]
-    for aspect, f, packing, name, window in planned:
+    return planned
+
+
+def runs_table(data_dir):
+    """Q of every run Fig. 3 uses or waits for, over its window."""
+    lines = ["| L/d | f (Hz) | packing | window | Q (kg/s) | run |", "|---|---|---|---|---|---|"]
+    for aspect, f, packing, name, window in planned_runs(data_dir):
         rate, why = run_status(data_dir, name, window)
         q = rate_text(rate) if rate else f"— ({why})"
         lines.append(f"| {_aspect(aspect)} | {f:g} | {packing} | {window_text(window)} | {q} | {name} |")

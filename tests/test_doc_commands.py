@@ -23,11 +23,11 @@ REPO_DIRS = ("inputs/", "examples/", "tools/", "bench/", "doc/", "analysis/", "t
 # what `bash tools/setup.sh` builds; the fast tier runs without it, so paths
 # into it are checked only where the build exists (the full tier)
 BUILD = ROOT / "build"
+PYTHON = "/usr/bin/python3"
 
 
 def built():
     return (BUILD / "bin" / "liggghts").exists()
-PYTHON = "/usr/bin/python3"
 
 
 def shell_blocks(text):
@@ -94,7 +94,7 @@ def missing_paths(word, cwd):
     missing = []
     for path in re.findall(r"[\w./*-]+", word):
         path = path.rstrip(".,")
-        if not (path.startswith(REPO_DIRS + ("build/", "../"))) or "<" in word:
+        if not path.startswith(REPO_DIRS + ("build/", "../")) or "<" in word:
             continue
         # (normpath: the folder a block cds into may not exist before it runs)
         here = Path(os.path.normpath(cwd / path))
@@ -174,4 +174,3 @@ def test_build_paths_are_checked_where_the_build_exists(tmp_path, monkeypatch):
     monkeypatch.setattr(sys.modules[__name__], "built", lambda: True)
     problems = "\n".join(page_problems(page))
     assert problems.count("no-such-binary` does not exist") == 2
-

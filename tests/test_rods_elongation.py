@@ -1,8 +1,9 @@
 """examples/silo3d_rotating/rods_elongation.sh on the quick silo (300 rods):
 a stage settles its packing with checkpoints and runs its two frequencies;
-`keep` archives the finished runs (their orifice tables, no maps) and carries
-the packing; the next machine takes the packing from carry/ (not settled
-again) and skips the archived runs."""
+`keep` archives the finished runs (their orifice tables, no maps, from the
+stage's analysis: no dump is read twice) and carries the packing; the next
+machine takes the packing from carry/ (not settled again) and skips the
+archived runs, which it does not analyse again."""
 
 import os
 import subprocess
@@ -36,6 +37,7 @@ def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carrie
         assert (runs / f"D0.06_f{f}_s32452843" / "finished").exists()
     kept, log = driver("keep", tmp_path / "machine1", stores)
     assert kept.returncode == 0, log
+    assert "kernel w =" not in log     # the stage's analysis made the orifice tables: no dump read again
     store = stores / "silo3d_rods_elongation_L4.0"
     for f in ("0", "0.32"):
         assert (store / f"D0.06_f{f}_s32452843" / "orifice_timeseries.md").exists(), log
@@ -47,6 +49,7 @@ def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carrie
     assert second.returncode == 0, log
     assert "packing of seed 32452843: the kept one" in log and "settling" not in log
     assert log.count("done before, skipped") == 2
+    assert "archived in" in log and "not analysed again" in log
 
     wrong, log = driver("run", tmp_path / "machine3", stores, STAGES="1 9")
     assert wrong.returncode == 2 and "STAGES: no stage '9' (1-6)" in log

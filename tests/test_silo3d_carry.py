@@ -8,6 +8,8 @@ that finishes after being carried is archived and its carried checkpoint
 removed."""
 
 import lzma
+import os
+import shutil
 
 import numpy as np
 
@@ -200,3 +202,30 @@ def test_packings_are_carried_settled_or_at_their_last_settling_checkpoint(tmp_p
     assert not (carry / "settling_s13").exists()
     assert silo3d_carry.main(["drop-packings", str(store), "--carry", str(carry)]) == 0
     assert not carry.exists()
+
+
+def test_a_finished_run_is_to_analyse_until_it_is_analysed_since_it_finished_or_archived(tmp_path, capsys):
+    """`to-analyse` (rods_fig2c.sh reads no dump twice): the finished run
+    until analysis.silo3d_rotating has written its orifice table, again
+    once it has finished anew, never once archived or restored from an
+    archive; the unfinished run never."""
+    finished, _, _ = make_campaign(tmp_path / "machine1")
+    runs, store, analysis = tmp_path / "machine1", tmp_path / "store", tmp_path / "machine1" / "analysis"
+    assert silo3d_carry.to_analyse(runs, store) == [finished]
+    assert silo.main([str(finished), "--out", str(analysis), "--map-frames", "2"]) == 0
+    [table] = analysis.glob("runs/*/orifice_timeseries.txt")
+    assert silo3d_carry.to_analyse(runs, store) == []
+    finished_at = table.stat().st_mtime + 10                  # the run finished again after its analysis
+    for name in ("run.txt", "finished"):
+        if (finished / name).exists():
+            os.utime(finished / name, (finished_at, finished_at))
+    assert silo3d_carry.to_analyse(runs, store) == [finished]
+    assert silo3d_carry.to_analyse(runs, store, tmp_path / "elsewhere") == [finished]
+    capsys.readouterr()
+    assert silo3d_carry.main(["to-analyse", str(runs), str(store)]) == 0
+    assert capsys.readouterr().out == f"{finished}\n"
+    silo3d_carry.keep(runs, store)
+    assert silo3d_carry.to_analyse(runs, store) == []         # archived
+    assert silo3d_carry.main(["restore", str(store), str(tmp_path / "machine2")]) == 0
+    shutil.rmtree(store)                                      # the mark alone says it was archived
+    assert silo3d_carry.to_analyse(tmp_path / "machine2", store) == []

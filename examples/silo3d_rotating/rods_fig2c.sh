@@ -14,7 +14,8 @@
 #       when all are done, analyses the whole campaign into RUN_DIR/analysis
 #   bash examples/silo3d_rotating/rods_fig2c.sh keep RUN_DIR
 #       before the machine goes (the runs may go on): analyses the finished
-#       runs (their orifice tables and fields), archives them into the store
+#       runs not analysed or archived before (their orifice tables and
+#       fields), archives them into the store
 #       and carries the unfinished ones' last checkpoints and the packings;
 #       then commit the store and carry/
 #
@@ -87,9 +88,12 @@ if [ "$ACTION" = keep ]; then
   [ -d "$RUN_DIR" ] || { echo "rods_fig2c.sh: no run directory $RUN_DIR" >&2; exit 2; }
   # the finished runs' orifice tables and fields come from their dumps,
   # which the store does not keep: analyse them before they are archived
-  finished=()
-  for run in "$RUN_DIR"/D*_f*_s*; do [ -f "$run/finished" ] && finished+=("$run"); done
-  [ ${#finished[@]} = 0 ] || analysis analysis.silo3d_rotating "${finished[@]}" --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
+  # (runs archived, or analysed since they finished, are not read again)
+  pending="$(analysis analysis.campaign.silo3d_carry to-analyse "$RUN_DIR" "$STORE")"
+  if [ -n "$pending" ]; then
+    mapfile -t pending <<< "$pending"
+    analysis analysis.silo3d_rotating "${pending[@]}" --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
+  fi
   analysis analysis.campaign.silo3d_carry keep "$RUN_DIR" "$STORE" "${COLUMN[@]}" \
     $([ "${KEEP_FIELDS:-1}" = 0 ] && echo --no-fields)
   exit 0
@@ -105,8 +109,11 @@ SHAPE=rod ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS"
 # (Q, the orifice averages and the axial acceleration are whole for every
 # run; the maps of a run restored from an archive hold only the kept
 # cylinders: its maps are the fields.npz kept beside its records, if any)
-if ls "$RUN_DIR"/D*_f*_s* -d 2>/dev/null | while read -r run; do [ -f "$run/finished" ] || exit 1; done; then
-  analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
-else
+if ! ls "$RUN_DIR"/D*_f*_s* -d 2>/dev/null | while read -r run; do [ -f "$run/finished" ] || exit 1; done; then
   echo "rods_fig2c.sh: runs left unfinished in $RUN_DIR: not analysed ('keep' carries them to the next session)"
+elif [ -z "$(analysis analysis.campaign.silo3d_carry to-analyse "$RUN_DIR" "$STORE")" ]; then
+  # a stage met again on resuming: its runs' dumps were read before
+  echo "rods_fig2c.sh: every run in $RUN_DIR is archived in $STORE or analysed since it finished: not analysed again"
+else
+  analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
 fi

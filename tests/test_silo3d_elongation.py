@@ -103,7 +103,7 @@ def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
     """The by-f figure's Q at L/d = 3.3: the mean of the packings' rates
     over 2-4 s, each from the mass between the window's end samples, ± the
     standard error of their spread; at rest the third packing clogs and is
-    left out."""
+    left out. At 2.5 and 4.0 the mean over the packings archived so far."""
     points = {(p.aspect, p.f): p for p in elongation.rate_points(DATA_DIR)}
     for f, packings in ((0.32, ("1st", "2nd", "3rd")), (0.0, ("1st", "2nd"))):
         ends = [rates_over(DATA_DIR / FIG2C[packing, f])[1] for packing in packings]
@@ -111,6 +111,19 @@ def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
         assert point.n == len(packings)
         assert point.q == pytest.approx(np.mean(ends), rel=1e-9)
         assert point.se == pytest.approx(np.std(ends, ddof=1) / np.sqrt(len(ends)), rel=1e-9)
+    # the elongation campaign's aspect ratios: the packings archived so far
+    # (L/d = 2.5 at rest has its first packing, 2026-11-30)
+    for aspect in (2.5, 4.0):
+        for f in elongation.FREQUENCIES:
+            runs = [DATA_DIR / elongation.store(aspect) / f"D0.06_f{f:g}_s{PACKINGS[packing]}"
+                    for packing in elongation.CAMPAIGN_PACKINGS]
+            ends = [rates_over(run)[1] for run in runs if (run / "discharge.txt").exists()]
+            if not ends:
+                assert (aspect, f) not in points
+                continue
+            assert points[aspect, f].n == len(ends)
+            assert points[aspect, f].q == pytest.approx(np.mean(ends), rel=1e-9)
+    assert points[2.5, 0.0].n >= 1 and points[4.0, 0.32].n >= 1
     assert elongation.main(["--figure-by-f", str(tmp_path / "by_f.png")]) == 0
     assert (tmp_path / "by_f.png").stat().st_size > 10_000
 

@@ -25,6 +25,11 @@ def discharge(run_dir):
     return table[:, 1] - t_open, table[:, 3]
 
 
+def campaign_run(aspect, packing, f):
+    """Where the elongation campaign archives a run (named here, not by the module)."""
+    return DATA_DIR / elongation.store(aspect) / f"D0.06_f{f:g}_s{PACKINGS[packing]}"
+
+
 def rates_over(run_dir, t_from=2.0, t_to=4.0):
     """Q over [t_from, t_to] two ways: the slope of a straight line through
     mass_out against time, and the mass between the first and the last
@@ -89,7 +94,7 @@ def test_the_4_0_point_is_the_ratio_of_the_two_runs_rates_per_packing():
     point = elongation.rod_point(DATA_DIR, 4.0, "a")
 
     def run_dir(packing, f):
-        return DATA_DIR / elongation.store(4.0) / f"D0.06_f{f:g}_s{PACKINGS[packing]}"
+        return campaign_run(4.0, packing, f)
 
     both = [p for p in elongation.CAMPAIGN_PACKINGS
             if all((run_dir(p, f) / "discharge.txt").exists() for f in (0.0, 0.32))]
@@ -115,8 +120,7 @@ def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
     # (L/d = 2.5 at rest has its first packing, 2026-11-30)
     for aspect in (2.5, 4.0):
         for f in elongation.FREQUENCIES:
-            runs = [DATA_DIR / elongation.store(aspect) / f"D0.06_f{f:g}_s{PACKINGS[packing]}"
-                    for packing in elongation.CAMPAIGN_PACKINGS]
+            runs = [campaign_run(aspect, packing, f) for packing in elongation.CAMPAIGN_PACKINGS]
             ends = [rates_over(run)[1] for run in runs if (run / "discharge.txt").exists()]
             if not ends:
                 assert (aspect, f) not in points

@@ -133,8 +133,8 @@ def to_analyse(run_dir, store, analysis=None):
     """The finished runs of run_dir whose fields analysis.silo3d_rotating
     has still to make: not restored from an archive (MARK), not archived in
     store yet, and with no orifice table in `analysis` (run_dir/analysis by
-    default) written since the run finished. The others' tables are made:
-    reading a 4 s dump of 22 500 rods again takes some 10 minutes."""
+    default) written since the run finished. The others are not read
+    again: a 4 s dump of 22 500 rods takes some 10 minutes to analyse."""
     run_dir, store = Path(run_dir), Path(store)
     analysis = Path(analysis) if analysis is not None else run_dir / "analysis"
     pending = []

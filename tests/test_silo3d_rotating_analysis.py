@@ -7,6 +7,7 @@ and the CLI (analysis.silo3d_rotating.analyse, with the fields of
 analysis.silo3d_rotating.fields) on synthetic run directories."""
 
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -23,6 +24,7 @@ from analysis.silo3d_rotating import records as silo3d_records  # noqa: E402
 from analysis.silo3d_rotating import analyse as silo  # noqa: E402
 from analysis.common.deck_blocks import granular_setup, hooke_materials  # noqa: E402
 from analysis.common.lammps_io import dump_steps, iter_dump  # noqa: E402
+from analysis.silo3d_rotating.fields import analyse_fields  # noqa: E402
 from analysis.common.tables import read_table
 
 KN = 1000.0
@@ -584,6 +586,33 @@ def test_cli_writes_tables_and_plots(tmp_path):
     v_theta = fields["velocity_0"][..., 1][np.ix_(inner_r, inner_z)]
     assert v_theta == pytest.approx(np.broadcast_to(OMEGA * fields["r"][inner_r][:, None], v_theta.shape),
                                     abs=0.05 * OMEGA * LATTICE)
+
+
+def test_fields_read_before_from_the_same_records_are_not_read_again(tmp_path, monkeypatch):
+    # a campaign stage analyses all its runs again when its last one ends:
+    # the dumps of those read before, with the same settings, are not read
+    run_dir, out = tmp_path / "D0.03_s1", tmp_path / "out"
+    write_run(run_dir, 0.32, 0.03, 1, 20.0, fields=True)
+    arguments = [str(run_dir), "--out", str(out), "--map-frames", "2"]
+    calls = []
+    monkeypatch.setattr(silo, "analyse_fields", lambda run, settings: calls.append(settings) or
+                        analyse_fields(run, settings))
+    assert silo.main(arguments) == 0 and len(calls) == 1
+    first = read_table(out / "orifice.txt")
+    assert silo.main(arguments) == 0 and len(calls) == 1                    # read before: not read again
+    again = read_table(out / "orifice.txt")
+    assert list(again) == list(first)
+    for name in first:       # the series read back has 8 significant digits
+        assert again[name] == pytest.approx(first[name], rel=1e-7, nan_ok=True)
+    assert first["v_z"][0] == pytest.approx(-FALL, rel=1e-9)
+    # other settings, or a record written since: read again
+    assert silo.main(arguments + ["--orifice-height", "0.02"]) == 0 and len(calls) == 2
+    assert calls[1].orifice_height == 0.02
+    assert silo.main(arguments + ["--orifice-height", "0.02"]) == 0 and len(calls) == 2
+    dump = run_dir / "dump.cg"
+    stat = dump.stat()
+    os.utime(dump, ns=(stat.st_atime_ns, stat.st_mtime_ns + 10**9))
+    assert silo.main(arguments + ["--orifice-height", "0.02"]) == 0 and len(calls) == 3
 
 
 def test_a_frame_written_twice_is_read_once(tmp_path):

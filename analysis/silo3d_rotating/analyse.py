@@ -23,6 +23,7 @@ import numpy as np
 
 from analysis.common import coarse_grain as cg
 from analysis.common.lammps_io import iter_dump
+from analysis.common.tables import read_table
 from analysis.silo3d_rotating.fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_rotating.flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT,
                                            analyse_flow, beverloo, drop_and_recovery, exponential, flow_changes,
@@ -405,6 +406,40 @@ def map_field(key):
     return name if window.isdigit() else None
 
 
+# what a run's fields in the analysis' runs/<label>/ were computed from
+FIELDS_SOURCE = "fields_source.txt"
+
+
+def fields_source(run, settings):
+    """What the fields and orifice series of a run are computed from: the
+    coarse-graining settings, the flow window and the size and time of
+    every record read. Equal text, equal outputs."""
+    flow = run.flow
+    lines = [repr(settings), f"window {flow.start!r} {flow.end!r} gaps {np.asarray(flow.gaps).tolist()!r}"]
+    for name in ("dump.cg", "dump.contacts", "discharge.txt", "run.txt"):
+        path = run.path / name
+        if path.exists():
+            stat = path.stat()
+            lines.append(f"{name} {stat.st_size} {stat.st_mtime_ns}")
+    return "\n".join(lines) + "\n"
+
+
+def fields_read_before(directory, source):
+    """The orifice series (rows) of an analysis of the same source in
+    `directory`, else None. The campaign drivers analyse a stage's runs
+    again when its last one ends (rods_fig2c.sh): the dumps of the runs
+    read before are not read again. The rows are those of
+    orifice_timeseries.txt (8 significant digits)."""
+    source_path, table = directory / FIELDS_SOURCE, directory / "orifice_timeseries.txt"
+    if not source_path.exists() or source_path.read_text() != source:
+        return None
+    if not table.exists():
+        return []
+    columns = read_table(table)
+    return [{name: float(values[k]) for name, values in columns.items()}
+            for k in range(len(columns["t"]))]
+
+
 def run_fields(args, run, directory):
     """Maps and orifice series of one run; returns its orifice summary."""
     cg_path = run.path / "dump.cg"
@@ -413,6 +448,13 @@ def run_fields(args, run, directory):
         return {}
     _, first = next(iter_dump(cg_path))
     settings = field_settings(args, run, first["mass"])
+    source = fields_source(run, settings)
+    rows = fields_read_before(directory, source)
+    if rows is not None:
+        progress(f"{run.label}: fields as analysed before from the same records and settings "
+                 f"({directory / FIELDS_SOURCE}); dumps not read again")
+        return orifice_summary(rows, args.blocks)
+    (directory / FIELDS_SOURCE).unlink(missing_ok=True)
     progress(f"{run.label}: kernel w = {settings.kernel.width:.4g} m, r_c = {settings.kernel.cutoff:.4g} m, "
              f"cells {settings.spacing:.4g} m" + ("" if (run.path / "dump.contacts").exists()
                                                   else "; no dump.contacts: no contact stress"))
@@ -427,6 +469,10 @@ def run_fields(args, run, directory):
         names = list(rows[0])
         write_table(directory / "orifice_timeseries", names, [[row[n] for n in names] for row in rows],
                     f"{run.label}: orifice-region averages per frame")
+    else:
+        for suffix in (".txt", ".md"):
+            (directory / f"orifice_timeseries{suffix}").unlink(missing_ok=True)
+    (directory / FIELDS_SOURCE).write_text(source)       # last: the outputs above are whole
     return orifice_summary(rows, args.blocks)
 
 

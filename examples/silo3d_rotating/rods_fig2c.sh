@@ -115,5 +115,7 @@ elif [ -z "$(analysis analysis.campaign.silo3d_carry to-analyse "$RUN_DIR" "$STO
   # a stage met again on resuming: its runs' dumps were read before
   echo "rods_fig2c.sh: every run in $RUN_DIR is archived in $STORE or analysed since it finished: not analysed again"
 else
+  # (the dumps of runs analysed before with the same settings are not read
+  # again: runs/<label>/fields_source.txt)
   analysis analysis.silo3d_rotating "$RUN_DIR"/D*_f*_s* --out "$RUN_DIR/analysis" "${ANALYSIS_AT[@]}"
 fi

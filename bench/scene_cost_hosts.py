@@ -165,6 +165,26 @@ def prepare_scene(scene, host, workdir):
             "simulated": steps * scene.dt, "output": output}
 
 
+def engine_files(host):
+    """The files whose change changes what a host computes."""
+    if host == "liggghts":
+        return [LIGGGHTS]
+    return [LMP, LMP.resolve().parent.parent / "lib" / "liblammps.so.0", PLUGIN]
+
+
+def prepared_key(scene, host):
+    """The name of a scene's untimed run in `host`: a digest of its
+    variables, the deck's text and the engine's files, so that another
+    deck or build runs it again rather than reuse a state it would not
+    write (the key once hashed the variables alone)."""
+    (folder, deck, _), _ = scene.prepare
+    digest = hashlib.sha256(repr(scene.prepare).encode())
+    digest.update((INPUTS / folder / hosts.deck_name(host, deck)).read_bytes())
+    for path in engine_files(host):
+        digest.update(path.read_bytes() if path.exists() else b"missing")
+    return digest.hexdigest()[:10]
+
+
 def run_scene(scene, host, workdir, prepared=None):
     """All runs of a scene in a fresh directory (the prepared files linked
     into it): dict of cpu, steps, atoms, simulated time, outcome, the
@@ -248,7 +268,7 @@ def ratio_cell(values):
 
 def lammps_identity():
     """`lmp` is a launcher: LAMMPS is the liblammps.so.0 beside it in ../lib."""
-    library = LMP.resolve().parent.parent / "lib" / "liblammps.so.0"
+    library = engine_files("lammps")[1]
     found = benchlib.binary_identity(LMP)
     return f"{found} with {benchlib.binary_identity(library)}" if library.exists() else found
 
@@ -360,10 +380,8 @@ def main():
     results = {s.name: {h: [] for h in HOSTS} for s in all_scenes}
     prepared = {}
     for scene in [s for s in all_scenes if s.prepare]:
-        # named after the run's variables: other variables, another state
-        key = hashlib.sha256(repr(scene.prepare).encode()).hexdigest()[:10]
         for host in HOSTS:
-            folder = work / f"{scene.name}_prepared" / f"{host}_{key}"
+            folder = work / f"{scene.name}_prepared" / f"{host}_{prepared_key(scene, host)}"
             prepared[(scene.name, host)] = (folder, prepare_scene(scene, host, folder))
     raw = ["# scene_cost_hosts raw runs", f"# {benchlib.command_line()}",
            "# repetition scene host cpu_s steps atoms simulated_s outcome"]

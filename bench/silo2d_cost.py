@@ -10,9 +10,9 @@ Two measurements per time step dt:
    ratio <f_n,arch>/<f_n,bulk> (bulk: regions C and I, 8 < h/d < 14, the
    small silo's counterpart of the paper's 27-48 window), and the arch rate
    per simulated second; each with a 95 % confidence interval.
-2. Cost (the paper's silo, 32 d wide, 2650 grains, serial): time per step
-   while the silo flows, from the Loop time lines of the chunks after the
-   filling run.
+2. Cost (the paper's silo, 32 d wide, 2870 grains, serial): time per step
+   while the silo flows, from the Loop time lines after the deck says it
+   has filled (`silo2d: filled at`).
 
 Arches per CPU-hour of the paper's silo = (arch rate per simulated second
 of the small silo) x (simulated seconds per CPU-hour of the paper's silo).
@@ -27,8 +27,14 @@ dt = 1e-5 with the check every step against the deck's default (every
 
 Writes doc/accuracy_cost_silo2d.md and bench/results/silo2d_cost.txt.
 
-    /usr/bin/python3 bench/silo2d_cost.py               # ~40 min serial
-    /usr/bin/python3 bench/silo2d_cost.py --quick       # smoke run, ~3 min
+    /usr/bin/python3 bench/silo2d_cost.py               # ~70 CPU-min serial (estimate)
+    /usr/bin/python3 bench/silo2d_cost.py --quick       # smoke run, ~8 CPU-min
+
+--quick took 490 CPU-s on 2026-11-30: most of it the paper's silo, which
+fills for about 2 s of simulated time at each dt before it is timed. The
+full run's estimate from the costs per step: the paper's silo 2.7 M steps
+at dt = 1e-6 (about 20 min) and fewer at the larger ones, the small
+silo's 30 arches at each dt about 35 min.
 """
 
 import argparse
@@ -91,12 +97,23 @@ def metrics(run_dir, simulated_time, rng):
 
 
 def flowing_ms_per_step(result):
-    """Mean time per step of the chunks after the filling run (the first
-    Loop time line is the filling)."""
-    loops = result["loops"][1:]
+    """Mean time per step of the runs after the filling: the Loop time
+    lines after the deck's `silo2d: filled at` line (the filling is a run
+    and then chunks of 0.05 s until the gas is down or at rest; the chunks
+    once counted as flow)."""
+    filled_at(result["output"])              # the marker is there
+    loops = benchlib.loop_lines(result["output"].split("silo2d: filled at", 1)[1])
     seconds = sum(t for t, _, _ in loops)
     steps = sum(s for _, s, _ in loops)
     return 1e3 * seconds / steps, steps
+
+
+def filled_at(output):
+    """The simulated time at which the deck's filling ended (s)."""
+    for line in output.splitlines():
+        if line.startswith("silo2d: filled at t = "):
+            return float(line.split("t = ")[1].split()[0])
+    raise RuntimeError("the deck did not print 'silo2d: filled at t = ...'")
 
 
 def simulated_time_of(output):
@@ -125,9 +142,7 @@ def main():
         benchlib.progress(f"dt = {dt:g} s (t_c/{T_CONTACT / dt:.0f}): small silo until {args.narches} arches")
         small = benchlib.run_deck(deck({"quick": 1, "dt": dt, "narches": args.narches, "seed": args.seed,
                                         "total_time": 400}), work / "small")
-        simulated = simulated_time_of(small["output"]) - float(
-            next(line for line in small["output"].splitlines()
-                 if line.startswith("silo2d: quick")).split("filling ")[1].split()[0])
+        simulated = simulated_time_of(small["output"]) - filled_at(small["output"])
         found = metrics(work / "small", simulated, rng)
         benchlib.progress(f"  {found['arches']} arches in {simulated:.1f} s simulated, "
                           f"{small['cpu']:.0f} s CPU; paper's silo: cost per step")

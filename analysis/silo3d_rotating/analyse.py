@@ -23,7 +23,7 @@ import numpy as np
 
 from analysis.common import coarse_grain as cg
 from analysis.common.lammps_io import iter_dump
-from analysis.common.tables import read_table
+from analysis.common.tables import read_rows
 from analysis.silo3d_rotating.fields import FieldSettings, analyse_fields, orifice_groups, orifice_summary
 from analysis.silo3d_rotating.flow import (BLOCKS, END_FRACTION, MIN_FLOWING_FRACTION, MIN_GAP, TRANSIENT,
                                            analyse_flow, beverloo, drop_and_recovery, exponential, flow_changes,
@@ -429,15 +429,12 @@ def fields_read_before(directory, source):
     `directory`, else None. The campaign drivers analyse a stage's runs
     again when its last one ends (rods_fig2c.sh): the dumps of the runs
     read before are not read again. The rows are those of
-    orifice_timeseries.txt (8 significant digits)."""
-    source_path, table = directory / FIELDS_SOURCE, directory / "orifice_timeseries.txt"
+    orifice_timeseries.txt (8 significant digits; none when the analysis
+    wrote no series)."""
+    source_path = directory / FIELDS_SOURCE
     if not source_path.exists() or source_path.read_text() != source:
         return None
-    if not table.exists():
-        return []
-    columns = read_table(table)
-    return [{name: float(values[k]) for name, values in columns.items()}
-            for k in range(len(columns["t"]))]
+    return read_rows(directory / "orifice_timeseries.txt", missing_ok=True)
 
 
 def run_fields(args, run, directory):

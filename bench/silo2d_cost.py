@@ -101,19 +101,25 @@ def flowing_ms_per_step(result):
     lines after the deck's `silo2d: filled at` line (the filling is a run
     and then chunks of 0.05 s until the gas is down or at rest; the chunks
     once counted as flow)."""
-    filled_at(result["output"])              # the marker is there
-    loops = benchlib.loop_lines(result["output"].split("silo2d: filled at", 1)[1])
+    loops = benchlib.loop_lines(after_filling(result["output"]))
     seconds = sum(t for t, _, _ in loops)
     steps = sum(s for _, s, _ in loops)
     return 1e3 * seconds / steps, steps
 
 
+FILLED = "silo2d: filled at t = "       # the deck's line when its filling ends
+
+
+def after_filling(output):
+    """The screen output from the deck's FILLED line on."""
+    if FILLED not in output:
+        raise RuntimeError(f"the deck did not print '{FILLED}...'")
+    return output.split(FILLED, 1)[1]
+
+
 def filled_at(output):
     """The simulated time at which the deck's filling ended (s)."""
-    for line in output.splitlines():
-        if line.startswith("silo2d: filled at t = "):
-            return float(line.split("t = ")[1].split()[0])
-    raise RuntimeError("the deck did not print 'silo2d: filled at t = ...'")
+    return float(after_filling(output).split()[0])
 
 
 def simulated_time_of(output):

@@ -282,8 +282,9 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     second = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)
     assert second.returncode == 0, second.stdout + second.stderr
     assert "resuming" in second.stdout and (run_dir / "finished").exists()
-    assert not list(run_dir.glob("checkpoint.*.restart"))
-    assert not list(run_dir.glob("restart_forced_liggghts_*.data"))   # cleaned with the checkpoints
+    # all checkpoints but the last are cleaned, and the forced restart with them
+    assert [path.name for path in run_dir.glob("checkpoint.*.restart")] == [checkpoint.last_checkpoint(run_dir)[1].name]
+    assert not list(run_dir.glob("restart_forced_liggghts_*.data"))
     steps = read_table(run_dir / "discharge.txt")["step"]
     assert np.all(np.diff(steps) == steps[1] - steps[0])      # no gap, no repeated row
     t = read_table(run_dir / "discharge.txt")["t"]
@@ -296,6 +297,35 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     reinjected = read_table(run_dir / "reinject.txt")
     assert np.all(np.diff(reinjected["step"]) > 0) and np.all(np.diff(reinjected["n_out"]) > 0)
     assert (run_dir / "screen.txt").read_text().count("silo3d_rotating: done at") == 1
+    if stop != "kill run.sh":
+        return
+    # the finished run made longer: it goes on from the checkpoint it kept,
+    # its records cut back to it and continued without a gap
+    last_step = checkpoint.last_checkpoint(run_dir)[0]
+    old = read_table(run_dir / "discharge.txt")
+    longer = subprocess.run(command, env={**environment, "DISCHARGE": "0.6"}, capture_output=True, text=True,
+                            timeout=600)
+    assert longer.returncode == 0, longer.stdout + longer.stderr
+    assert "done before with a discharge of 0.5 s: made longer, to 0.6 s" in longer.stdout
+    assert f"checkpoint {run_dir.resolve()}/checkpoint.{last_step}.restart" in longer.stdout
+    assert (run_dir / "finished").exists() and read_run_info(run_dir)["discharge_time"] == 0.6
+    new = read_table(run_dir / "discharge.txt")
+    steps = new["step"]
+    assert np.all(np.diff(steps) == steps[1] - steps[0])
+    assert new["t"][-1] - run["t_open"] == pytest.approx(0.6, abs=0.01)
+    kept = old["step"] <= last_step     # the rows up to the checkpoint are the old run's
+    np.testing.assert_array_equal(new["n_out"][:kept.sum()], old["n_out"][kept])
+    frames = [step for step, _ in read_dump(run_dir / "dump.cg")]
+    assert np.all(np.diff(frames) == interval) and steps[-1] - frames[-1] < interval
+    assert [line.split()[0] for line in (run_dir / "run.txt").read_text().splitlines()].count("finished") == 1
+    # shorter than it ran, or no checkpoint left: skipped
+    for discharge, checkpoints in (("0.5", True), ("0.7", False)):
+        if not checkpoints:
+            checkpoint.remove_checkpoints(run_dir)
+        again = subprocess.run(command, env={**environment, "DISCHARGE": discharge}, capture_output=True,
+                               text=True, timeout=600)
+        assert f"done before with a discharge of 0.6 s, not {discharge}: skipped" in again.stdout
+    assert read_run_info(run_dir)["discharge_time"] == 0.6
 
 
 @pytest.mark.engine       # runs run.sh, which runs the built LIGGGHTS

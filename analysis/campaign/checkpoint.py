@@ -20,6 +20,9 @@ interruption, this module
                                                     # the same for a settling cut short
     python3 -m analysis.campaign.checkpoint clean RUN_DIR    # removes the checkpoint files
                                                     # (and LIGGGHTS' forced restart)
+    python3 -m analysis.campaign.checkpoint clean RUN_DIR --keep-last
+                                                    # all but the last: a finished
+                                                    # run can then be made longer
 
 `resume` prints nothing when there is no checkpoint to go on from.
 
@@ -168,13 +171,18 @@ def settle_resume_variables(packing_dir):
     return {"settle_resume": 1, "checkpoint": str(checkpoint.resolve()), "settled_steps": step}
 
 
-def remove_checkpoints(run_dir):
+def remove_checkpoints(run_dir, keep_last=False):
     """Removes the checkpoints of a finished run, and the restart LIGGGHTS
     writes by itself when a signal stops it (restart_forced_liggghts_<step>
-    .data, 8 MB for 10 000 rods), which a resumed run leaves behind."""
+    .data, 8 MB for 10 000 rods), which a resumed run leaves behind. With
+    keep_last, the last checkpoint stays (19 MB for 22 500 rods): resumed
+    with a longer discharge_time, the finished run goes on from it
+    (run.sh) instead of starting again from its packing."""
+    last = last_checkpoint(run_dir) if keep_last else None
     for pattern in ("checkpoint.*.restart", "restart_forced_liggghts_*.data"):
         for path in Path(run_dir).glob(pattern):
-            path.unlink()
+            if last is None or path != last[1]:
+                path.unlink()
 
 
 def keep(run_dir, kept, dump_cylinder=None):
@@ -236,8 +244,12 @@ def main(argv=None):
                           "/usr/bin/python3 -m analysis.campaign.checkpoint resume "
                           "runs/rods_fig2c/D0.06_f0.16_s32452843")
     actions = parser.add_subparsers(dest="action", required=True)
-    for action in ("resume", "settle-resume", "clean"):
+    for action in ("resume", "settle-resume"):
         actions.add_parser(action).add_argument("run_dir")
+    cleaning = actions.add_parser("clean", help="remove the checkpoint files")
+    cleaning.add_argument("run_dir")
+    cleaning.add_argument("--keep-last", action="store_true",
+                          help="all but the last one, from which a longer discharge goes on")
     keeping = actions.add_parser("keep", help="the last checkpoint and the records up to it, into KEPT")
     keeping.add_argument("run_dir")
     keeping.add_argument("kept")
@@ -249,7 +261,7 @@ def main(argv=None):
     restoring.add_argument("run_dir")
     args = parser.parse_args(argv)
     if args.action == "clean":
-        remove_checkpoints(args.run_dir)
+        remove_checkpoints(args.run_dir, args.keep_last)
         return 0
     if args.action in ("keep", "restore"):
         try:

@@ -14,9 +14,11 @@
 # an interrupted discharge goes on from its last checkpoint (a restart file
 # every CHECKPOINT s of discharge; analysis.campaign.checkpoint cuts its records back
 # to it), so that an interruption loses at most CHECKPOINT s of each run.
-# An unfinished run can be made longer: the same command with a larger
-# DISCHARGE resumes it and runs it to the new end (its run.txt then ends
-# with the new discharge_time); a finished one has no checkpoint left.
+# A run can be made longer: the same command with a larger DISCHARGE
+# resumes it and runs it to the new end (its run.txt then ends with the
+# new discharge_time). A finished run keeps its last checkpoint for this;
+# one without (restored from an archive, or finished before run.sh kept
+# it) is skipped.
 #
 # Environment (defaults in brackets):
 #   DS       orifice diameters in m          ["0.042 0.06"]
@@ -226,10 +228,17 @@ discharge() {  # one (D, f, seed) run
   if [ -f "$dir/finished" ]; then
     local ran
     ran=$(awk '$1 == "discharge_time" { t = $2 } END { print t }' "$dir/run.txt")
-    awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 == b + 0) }' \
-      && log "D $D f $f seed $seed: done before, skipped" \
-      || log "D $D f $f seed $seed: done before with a discharge of $ran s, not $length: skipped (kept as it is)"
-    return 0
+    if awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 == b + 0) }'; then
+      log "D $D f $f seed $seed: done before, skipped"; return 0
+    elif awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 < b + 0) }' \
+        && compgen -G "$dir/checkpoint.*.restart" > /dev/null; then
+      # resume cuts run.txt's `finished` line and the records after the checkpoint
+      log "D $D f $f seed $seed: done before with a discharge of $ran s: made longer, to $length s"
+      rm "$dir/finished"
+    else
+      log "D $D f $f seed $seed: done before with a discharge of $ran s, not $length: skipped (kept as it is)"
+      return 0
+    fi
   fi
   mkdir -p "$dir"
   wants_fields "$D" "$f" && dump=0.05
@@ -255,7 +264,7 @@ discharge() {  # one (D, f, seed) run
     log "D $D f $f seed $seed: stopped before the end of its discharge (SIGINT/SIGTERM?); the same command resumes it"
     return 1; }
   touch "$dir/finished"
-  analysis analysis.campaign.checkpoint clean "$dir"
+  analysis analysis.campaign.checkpoint clean "$dir" --keep-last
   log "D $D f $f seed $seed: $(grep -a 'done at' "$dir/screen.txt" | sed 's/silo3d_rotating: //') ($(( $(date +%s) - start )) s)"
 }
 

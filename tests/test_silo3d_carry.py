@@ -229,3 +229,48 @@ def test_a_finished_run_is_to_analyse_until_it_is_analysed_since_it_finished_or_
     assert silo3d_carry.main(["restore", str(store), str(tmp_path / "machine2")]) == 0
     shutil.rmtree(store)                                      # the mark alone says it was archived
     assert silo3d_carry.to_analyse(tmp_path / "machine2", store) == []
+
+
+def test_a_finished_run_made_longer_is_carried_and_then_replaces_its_archive(tmp_path, capsys):
+    """run.sh made a finished, archived run longer: while it goes on it is
+    carried, and the next machine resumes it rather than taking the shorter
+    archive for done; once finished it is to analyse again and its archive
+    is replaced."""
+    machine1, machine2, store, carry = (tmp_path / name for name in ("machine1", "machine2", "store", "carry"))
+    finished, _, _ = make_campaign(machine1)
+    with open(finished / "run.txt", "a") as run_txt:
+        run_txt.write("discharge_time 3.0\n")
+    silo3d_carry.keep(machine1, store, carry=carry)
+    assert silo3d_carry.discharge_time(store / finished.name) == 3.0
+    # resumed to 6 s from a checkpoint at 2 s (run.sh: `finished` line cut, the new end written)
+    lines = (finished / "run.txt").read_text().splitlines()
+    step_open = round(T_OPEN / DT)
+    (finished / "run.txt").write_text("\n".join(l for l in lines if not l.startswith("finished"))
+                                      + f"\nstep_open {step_open}\ndischarge_time 6.0\n")
+    (finished / "finished").unlink(missing_ok=True)
+    step = step_open + 2000
+    (finished / "checkpoints.txt").write_text(f"{step} checkpoint.{step}.restart\n")
+    (finished / f"checkpoint.{step}.restart").write_bytes(b"state at 2 s")
+    lines = silo3d_carry.keep(machine1, store, carry=carry)
+    assert any(line.startswith(f"{finished.name}: unfinished, kept at its checkpoint of step {step}") for line in lines)
+    assert silo3d_carry.discharge_time(store / finished.name) == 3.0      # the archive stays until it ends
+
+    lines = silo3d_carry.restore(store, machine2, carry=carry)
+    assert f"{finished.name}: unfinished, restored at its checkpoint of step {step}, made longer than its archive" \
+        in lines
+    resumed = machine2 / finished.name
+    assert not (resumed / silo3d_carry.MARK).exists() and not (resumed / "finished").exists()
+    assert checkpoint.last_checkpoint(resumed)[0] == step
+    # ... and it finishes at 6 s
+    shutil.rmtree(resumed)
+    write_run(resumed, 0.32, 0.03, 11, 20.0, duration=6.0)
+    with open(resumed / "run.txt", "a") as run_txt:
+        run_txt.write("discharge_time 6.0\n")
+    assert silo3d_carry.to_analyse(machine2, store) == [resumed]
+    lines = silo3d_carry.keep(machine2, store, carry=carry)
+    assert any(line.startswith(f"{finished.name}: finished, archived (") and "in place of the shorter archive" in line
+               for line in lines), lines
+    assert silo3d_carry.discharge_time(store / finished.name) == 6.0
+    assert [p.name for p in store.iterdir()] == [finished.name]      # no .part, no .shorter left
+    assert not (carry / finished.name).exists()
+    assert silo3d_carry.keep(machine2, store, carry=carry)[0] == f"{finished.name}: archived before"

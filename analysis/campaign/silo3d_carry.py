@@ -40,7 +40,9 @@ campaign lives in two places of the repository:
         carried checkpoint, and carries the last checkpoint of every
         unfinished one, in place of the one carried before. Safe while the
         runs go on (a checkpoint is listed once it is whole, and the
-        records are cut back to it).
+        records are cut back to it). A run made longer than its archive
+        (run.sh with a larger DISCHARGE) is carried while it goes on and
+        replaces its archive when it has finished.
     python3 -m analysis.campaign.silo3d_carry to-analyse RUN_DIR STORE [--analysis OUT]
         Prints the finished runs of RUN_DIR whose orifice tables and fields
         are still to make: neither restored from nor kept in an archive,
@@ -54,8 +56,9 @@ campaign lives in two places of the repository:
         ones, archives of the same protocol kept elsewhere in doc/data)
         into RUN_DIR as a finished run (its records, run.sh's `finished`
         file, `archived_in` saying where from), and restores each carried
-        run that is not archived, so that run.sh, given the campaign's
-        variables and PACKINGS, skips the first and resumes the second.
+        run that is not archived, or is made longer than its archive, so
+        that run.sh, given the campaign's variables and PACKINGS, skips the
+        first and resumes the second.
 
 --dump-cylinder: cylinders about the z axis whose grains a carried run's
 dump keeps besides the orifice region (r < 6 cm, z < 5 cm); e.g.
@@ -81,6 +84,22 @@ ORIFICE_REGION = (0.06, 0.05)   # r < 6 cm, z < 5 cm: the orifice averages for D
 
 
 PACKINGS = "packings"
+
+
+def discharge_time(run):
+    """The run's discharge_time, s, or None: run.txt's last line of the key
+    (a run made longer says its new end there)."""
+    value = read_run_info(run, required=()).get("discharge_time")
+    return None if value is None else float(value)
+
+
+def made_longer(run, archived):
+    """Whether run (a run directory or a carried one) goes on past the end
+    of its archive in the store."""
+    if not archived.exists():
+        return False
+    ends = discharge_time(run), discharge_time(archived)
+    return None not in ends and ends[0] > ends[1]
 
 
 def run_dirs(directory):
@@ -140,7 +159,9 @@ def to_analyse(run_dir, store, analysis=None):
     pending = []
     for run in run_dirs(run_dir):
         info = read_run_info(run, required=())
-        if "finished" not in info or (run / MARK).exists() or (store / run.name).exists():
+        if "finished" not in info or (run / MARK).exists():
+            continue
+        if (store / run.name).exists() and not made_longer(run, store / run.name):
             continue
         table = analysis / "runs" / silo3d_archive.run_label(info) / "orifice_timeseries.txt"
         finished = run / "finished" if (run / "finished").exists() else run / "run.txt"
@@ -165,7 +186,8 @@ def keep(run_dir, store, more=(), analysis=None, carry=None, fields=True):
             continue                               # restored from an archive
         info = read_run_info(run)
         if "finished" in info:
-            if archived.exists():
+            replaced = made_longer(run, archived)
+            if archived.exists() and not replaced:
                 lines.append(f"{run.name}: archived before")
                 drop_carried(carried)
                 continue
@@ -175,9 +197,17 @@ def keep(run_dir, store, more=(), analysis=None, carry=None, fields=True):
             shutil.rmtree(partial, ignore_errors=True)
             names = silo3d_archive.archive(run, partial, analysed, fields)
             pack_screen(run, partial)
-            partial.rename(archived)
+            if replaced:      # the shorter archive goes only once the longer one is whole
+                shorter = archived.with_name(archived.name + ".shorter")
+                shutil.rmtree(shorter, ignore_errors=True)
+                archived.rename(shorter)
+                partial.rename(archived)
+                shutil.rmtree(shorter)
+            else:
+                partial.rename(archived)
             drop_carried(carried)
             lines.append(f"{run.name}: finished, archived (" + ", ".join(names) + ")"
+                         + (" in place of the shorter archive" if replaced else "")
                          + ("" if analysed else f"; no analysis of it in {analysis}: no orifice table, no fields"))
             continue
         if checkpoint.last_checkpoint(run) is None:
@@ -262,9 +292,14 @@ def restore(store, run_dir, also=(), carry=None):
     for archive in archives:       # all checked before any is copied
         if "finished" not in read_run_info(archive):
             raise ValueError(f"{archive}: run.txt has no 'finished' line: not a finished run's archive")
+    # a run made longer than its archive goes on from its carried checkpoint
+    longer = {carried.name for carried in run_dirs(carry) for archive in archives
+              if archive.name == carried.name and made_longer(carried, archive)}
     run_dir.mkdir(parents=True, exist_ok=True)
     for archive in archives:
         target = run_dir / archive.name
+        if archive.name in longer:
+            continue
         if target.exists():
             lines.append(f"{archive.name}: in {run_dir} already, left as it is")
             continue
@@ -274,14 +309,15 @@ def restore(store, run_dir, also=(), carry=None):
         lines.append(f"{archive.name}: finished, from {archive}")
     for carried in run_dirs(carry):
         target = run_dir / carried.name
-        if carried.name in names:
+        if carried.name in names and carried.name not in longer:
             lines.append(f"{carried.name}: carried checkpoint ignored, the run is archived")
         elif target.exists():
             lines.append(f"{carried.name}: in {run_dir} already, left as it is")
         else:
             checkpoint.restore(carried, target)
             step, _ = checkpoint.last_checkpoint(target)
-            lines.append(f"{carried.name}: unfinished, restored at its checkpoint of step {step}")
+            lines.append(f"{carried.name}: unfinished, restored at its checkpoint of step {step}"
+                         + (", made longer than its archive" if carried.name in longer else ""))
     return lines + restore_packings(carry, run_dir)
 
 

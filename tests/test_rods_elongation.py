@@ -52,5 +52,5 @@ def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carrie
     assert "archived in" in log and "not analysed again" in log
 
     wrong, log = driver("run", tmp_path / "machine3", stores, STAGES="1 9")
-    assert wrong.returncode == 2 and "STAGES: no stage '9' (1-6)" in log
+    assert wrong.returncode == 2 and "STAGES: no stage '9' (1-7)" in log
     assert not (tmp_path / "machine3").exists()

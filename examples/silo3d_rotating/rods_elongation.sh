@@ -12,6 +12,13 @@
 #   1. 4.0, first packing, f = 0 and 0.32     2. 4.0, second packing, same
 #   3. 2.5, first packing, f = 0 and 0.32     4. 2.5, second packing, same
 #   5. 4.0, both packings, f = 1.28           6. 2.5, both packings, f = 1.28
+#   7. 3.3, first and second packings, f = 0.32, 8 s: the 3.3 point over
+#      4-8 s (its 8 s runs at rest are the Fig. 2c campaign's); its packings
+#      are the Fig. 2c campaign's, carried in carry/silo3d_rods_elongation_L3.3
+#
+# A finished 4 s run of stages 1-4 is made 8 s long from its last
+# checkpoint (run.sh) when one is in its directory; the log says how the
+# runs finished before that rule got theirs back from carry/ in the history.
 #
 #   bash examples/silo3d_rotating/rods_elongation.sh run  RUN_DIR
 #       restores what earlier machines carried and runs the stages in order
@@ -25,7 +32,7 @@
 # machine's end is carried too (a settling of 22 500 rods takes hours).
 #
 # Environment (defaults in brackets):
-#   STAGES   which stages, in which order      ["1 2 3 4 5 6"]
+#   STAGES   which stages, in which order      ["1 2 3 4 5 6 7"]
 #   JOBS     runs at once within a stage        [1]
 #   STORES   the folder of the stores           [doc/data]
 #   PROTOCOL "f discharge transient" triples    ["0 8 2  0.32 8 2  1.28 4 2"]
@@ -45,7 +52,7 @@ ACTION="${1:-}"
 RUN_DIR="${2:-}"
 [ -n "$RUN_DIR" ] && { [ "$ACTION" = run ] || [ "$ACTION" = keep ]; } || {
   echo "usage: bash examples/silo3d_rotating/rods_elongation.sh run|keep RUN_DIR" >&2; exit 2; }
-STAGES="${STAGES:-1 2 3 4 5 6}"
+STAGES="${STAGES:-1 2 3 4 5 6 7}"
 FIRST=32452843 SECOND=15485863
 # Fig. 3a's runs 8 s, Fig. 3b's 4 s; every orifice series from 2 s on
 PROTOCOL="${PROTOCOL:-0 8 2  0.32 8 2  1.28 4 2}"
@@ -56,7 +63,8 @@ stage() {   # stage N -> "aspect seeds frequencies"
     1) echo "4.0|$FIRST|0 0.32" ;;  2) echo "4.0|$SECOND|0 0.32" ;;
     3) echo "2.5|$FIRST|0 0.32" ;;  4) echo "2.5|$SECOND|0 0.32" ;;
     5) echo "4.0|$FIRST $SECOND|1.28" ;;  6) echo "2.5|$FIRST $SECOND|1.28" ;;
-    *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-6)" >&2; return 2 ;;
+    7) echo "3.3|$FIRST $SECOND|0.32" ;;
+    *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-7)" >&2; return 2 ;;
   esac
 }
 # The page uses Q and the orifice averages (the paper's Figs. 2b, 2d, 3
@@ -70,7 +78,7 @@ campaign() {   # campaign ACTION ASPECT SEEDS FS
 
 for n in $STAGES; do stage "$n" > /dev/null || exit 2; done
 if [ "$ACTION" = keep ]; then
-  for aspect in 4.0 2.5; do
+  for aspect in 4.0 2.5 3.3; do
     [ -d "$RUN_DIR/L$aspect" ] && campaign keep "$aspect" "$FIRST $SECOND" "0 0.32 1.28"
   done
   exit 0

@@ -110,7 +110,7 @@ def test_q_against_f_is_the_mean_of_the_packings_rates(tmp_path):
     over 2-4 s, each from the mass between the window's end samples, ± the
     standard error of their spread; at rest the third packing clogs and is
     left out. At 2.5 and 4.0 the mean over the packings archived so far."""
-    points = {(p.aspect, p.f): p for p in elongation.rate_points(DATA_DIR)}
+    points = {(p.aspect, p.f): p for p in elongation.rate_points(DATA_DIR) if p.window != elongation.LATE}
     for f, packings in ((0.32, ("1st", "2nd", "3rd")), (0.0, ("1st", "2nd"))):
         ends = [rates_over(DATA_DIR / FIG2C[packing, f])[1] for packing in packings]
         point = points[3.3, f]
@@ -167,7 +167,7 @@ def data_with_a_store(tmp_path):
     its runs (run.txt's aspect made 4.0). The campaign's own stores are
     left out: the test sees the same store whatever the campaign has
     archived, and never writes into doc/data through a link."""
-    campaign_stores = {elongation.store(4.0), elongation.store(2.5)}
+    campaign_stores = {elongation.store(aspect) for aspect in elongation.ASPECTS[1:]}
     for entry in DATA_DIR.iterdir():
         if entry.name not in campaign_stores:
             (tmp_path / entry.name).symlink_to(entry)
@@ -194,11 +194,60 @@ def test_a_store_is_picked_up_as_its_runs_land(data_with_a_store):
     assert f"| 3a | 4.0 | Q(0.32 Hz)/Q(0) | 2–4 s | {point.value_cell()} | 1 of 2 |" in table
     assert "| 3a | 2.5 | Q(0.32 Hz)/Q(0) | 2–4 s | under way | 0 of 2 |" in table
     # the orifice series of the copied run at rest covers 4-8 s only: left out
-    orifice = {(p.aspect, p.f): p for p in elongation.orifice_points(data)}
+    orifice = {(p.aspect, p.f): p for p in elongation.orifice_points(data) if p.window == elongation.EARLY}
     assert orifice[4.0, 0.0].n == 0
     assert orifice[4.0, 0.32].n == 1
     own = elongation.run_orifice_means(DATA_DIR / FIG2C["2nd", 0.32], (2, 4))
     assert orifice[4.0, 0.32].values["v_z"] == pytest.approx(own["v_z"])
+
+
+def copy_run(source, target, **changes):
+    """A stored run copied to `target`, its run.txt's keys changed ("f": (old, new))."""
+    shutil.copytree(source, target)
+    info = (target / "run.txt").read_text()
+    for key, (old, new) in changes.items():
+        assert f"\n{key} {old}\n" in info
+        info = info.replace(f"\n{key} {old}\n", f"\n{key} {new}\n")
+    (target / "run.txt").write_text(info)
+
+
+def test_fig_3a_over_4_8_s_pairs_the_8_s_runs_and_leaves_4_s_runs_out(data_with_a_store):
+    """Over 4-8 s (LATE): a store's 8 s runs give the point, from the same
+    4-8 s of both; its 4 s runs none ("records end at"). At 3.3 the 8 s
+    runs at rest are the Fig. 2c campaign's, the 0.32 Hz ones the
+    elongation campaign's L/d = 3.3 store. Here both stores hold the
+    second packing's 8 s run at 0.16 Hz as if at 0.32 Hz (the 4.0 store
+    its run at rest too), so the two points are the same ratio."""
+    data = data_with_a_store
+    assert elongation.rod_point(data, 4.0, "a", elongation.LATE).ratio.n == 0     # the fixture's 0.32 Hz run: 4 s
+    table = elongation.data_table(data)
+    assert f"| 4.0 | 0.32 | 2nd | 4–8 s | — (records end at " in table
+    late_032 = DATA_DIR / "silo3d_rods_drop_8s" / f"D0.06_f0.16_s{SEED}"
+    copy_run(late_032, data / elongation.store(3.3) / f"D0.06_f0.32_s{SEED}", f=(0.16, 0.32))
+    store = data / elongation.store(4.0)
+    shutil.rmtree(store)
+    copy_run(DATA_DIR / FIG2C["2nd", 0.0], store / f"D0.06_f0_s{SEED}", aspect=(3.3, 4.0))
+    copy_run(late_032, store / f"D0.06_f0.32_s{SEED}", f=(0.16, 0.32), aspect=(3.3, 4.0))
+    at_3_3 = elongation.rod_point(data, 3.3, "a", elongation.LATE)
+    at_4_0 = elongation.rod_point(data, 4.0, "a", elongation.LATE)
+    assert [p[0] for p in at_3_3.ratio.parts] == ["2nd"] and at_3_3.planned == 2
+    assert_parts_are_rate_ratios(at_3_3, lambda packing, f: data / (elongation.store(3.3) if f else "")
+                                 / (f"D0.06_f0.32_s{SEED}" if f else FIG2C["2nd", 0.0]), 0.32, 0.0, (4, 8), within=2)
+    assert at_4_0.ratio.value == at_3_3.ratio.value and at_4_0.ratio.se == at_3_3.ratio.se
+    # the same 8 s runs give the 2-4 s point too, and it differs
+    early = elongation.rod_point(data, 4.0, "a")
+    slope_f, ends_f = rates_over(late_032, 2, 4)
+    assert early.ratio.value == pytest.approx(ends_f / rates_over(DATA_DIR / FIG2C["2nd", 0.0], 2, 4)[1], rel=1e-9)
+    assert abs(early.ratio.value - at_4_0.ratio.value) > early.ratio.se + at_4_0.ratio.se
+    # the orifice averages over 4-8 s: at 3.3 at rest the two 8 s runs' own
+    orifice = {(p.aspect, p.f): p for p in elongation.orifice_points(data) if p.window == elongation.LATE}
+    own = [elongation.run_orifice_means(DATA_DIR / FIG2C[packing, 0.0], (4, 8)) for packing in ("1st", "2nd")]
+    assert orifice[3.3, 0.0].n == 2
+    assert orifice[3.3, 0.0].values["v_z"][0] == pytest.approx(np.mean([m["v_z"][0] for m in own]))
+    assert orifice[3.3, 0.32].n == 1 and orifice[4.0, 0.32].n == 1
+    table = elongation.data_table(data)
+    assert f"| 3a | 3.3 | Q(0.32 Hz)/Q(0) | 4–8 s | {at_3_3.value_cell()} | 1 of 2 |" in table
+    assert "| 3b | 3.3 | Q(1.28 Hz)/Q(0.32 Hz) | 4–8 s" not in table        # Fig. 3b: 2-4 s only
 
 
 def test_a_run_cut_short_of_4_s_is_left_out(data_with_a_store):

@@ -19,9 +19,17 @@ results.spheres_paired, results.combine):
   (examples/silo3d_rotating/rods_elongation.sh),
   doc/data/silo3d_rods_elongation_L<aspect>/D0.06_f<f>_s<seed>/, seeds
   32452843 and 15485863, 2-4 s. A run that is not archived, or whose
-  records end before 4 s, is left out, and its cell gives the number of
-  packings it has ("under way" when there are none). New runs are picked
-  up as they are archived.
+  records end before the window's end, is left out, and its cell gives
+  the number of packings it has ("under way" when there are none). New
+  runs are picked up as they are archived.
+
+Fig. 3a is taken over 4-8 s too (LATE), the issue's window where the rate
+at rest still rises at 4 s, as it does at 2.5 and 3.3
+(doc/campaigns/silo3d_rotating.md, "Which window"): the first two
+packings of every rod L/d, from 8 s runs at f = 0 and 0.32 Hz; at 3.3
+the Fig. 2c campaign's 8 s runs at rest and the elongation campaign's
+(its stage 7) at 0.32 Hz, in silo3d_rods_elongation_L3.3/. Fig. 3b
+stays over 2-4 s (its 1.28 Hz runs last 4 s).
 
 The orifice averages per (L/d, f), as in the paper's Figs. 8a, 8b and 9a:
 <X> = int X phi dV / int phi dV over the 1 cm high cylinder above the
@@ -76,7 +84,10 @@ SEED_NAMES = {seed: name for name, seed in PACKINGS.items()}   # spheres_paired 
 F_MIN = 0.32                               # Q_min = Q(0.32 Hz) at every L/d (the module's docstring)
 F_FAST = 1.28
 FREQUENCIES = (0.0, F_MIN, F_FAST)
-WINDOW = (2, 4)                            # the rods, at every L/d
+EARLY = (2, 4)                             # the rods, at every L/d: Fig. 3b, and Fig. 3a as first measured
+LATE = (4, 8)                              # Fig. 3a over the 8 s runs at f = 0 and 0.32 Hz (the docstring)
+WINDOWS = {"a": (EARLY, LATE), "b": (EARLY,)}
+LATE_FREQUENCIES = (0.0, F_MIN)            # the runs that last 8 s
 SPHERES_WINDOW = (0.5, 2)                  # the spheres' 2 s runs
 ORIFICE_QUANTITIES = {"phi": "⟨φ⟩", "v_z": "⟨v_z⟩ (m/s)", "O_zz": "⟨O_zz⟩"}
 PANELS = {"a": (F_MIN, 0.0), "b": (F_FAST, F_MIN)}   # Fig. 3's panels: (f, f_ref) of Q(f)/Q(f_ref)
@@ -134,11 +145,15 @@ def campaign_runs(data_dir, aspect):
     return runs
 
 
-def rod_runs(data_dir, aspect):
-    """The rods' runs of one aspect ratio, {(packing, f): directory}, and the packings planned for it."""
-    if aspect == 3.3:
+def rod_runs(data_dir, aspect, window=EARLY):
+    """The rods' runs of one aspect ratio over a window, {(packing, f):
+    directory}, and the packings planned for it."""
+    if aspect != 3.3:
+        return campaign_runs(data_dir, aspect), CAMPAIGN_PACKINGS
+    if window == EARLY:
         return FIG2C, tuple(PACKINGS)
-    return campaign_runs(data_dir, aspect), CAMPAIGN_PACKINGS
+    at_rest = {(packing, 0.0): FIG2C[packing, 0.0] for packing in CAMPAIGN_PACKINGS}    # 8 s runs
+    return {**campaign_runs(data_dir, aspect), **at_rest}, CAMPAIGN_PACKINGS
 
 
 def run_status(data_dir, name, window):
@@ -176,15 +191,16 @@ def fig3_points(data_dir=DATA_DIR):
     data_dir = Path(data_dir)
     points = [Point(1.0, panel, spheres_paired(data_dir, D_MM, *PANELS[panel], window=SPHERES_WINDOW),
                     SPHERES_WINDOW, len(PACKINGS)) for panel in PANELS]
-    points += [rod_point(data_dir, aspect, panel) for aspect in ASPECTS[1:] for panel in PANELS]
+    points += [rod_point(data_dir, aspect, panel, window)
+               for panel in PANELS for window in WINDOWS[panel] for aspect in ASPECTS[1:]]
     return points
 
 
-def rod_point(data_dir, aspect, panel):
-    """The rods' point of one panel at one L/d, over WINDOW, paired by packing."""
-    runs, packings = rod_runs(Path(data_dir), aspect)
-    ratio = paired(Path(data_dir), *PANELS[panel], WINDOW, packings=packings, runs=runs)
-    return Point(aspect, panel, ratio, WINDOW, len(packings), "" if ratio.n else "under way")
+def rod_point(data_dir, aspect, panel, window=EARLY):
+    """The rods' point of one panel at one L/d over a window, paired by packing."""
+    runs, packings = rod_runs(Path(data_dir), aspect, window)
+    ratio = paired(Path(data_dir), *PANELS[panel], window, packings=packings, runs=runs)
+    return Point(aspect, panel, ratio, window, len(packings), "" if ratio.n else "under way")
 
 
 def paper_cell(aspect, panel):
@@ -211,7 +227,8 @@ def fig3_table(points, detail=True):
     header = ["Fig.", "L/d", "ratio", "window", "ours", "packings"] + (["per packing", "χ²"] if detail else []) + [
         "the paper"]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for point in sorted(points, key=lambda p: (p.panel, p.aspect)):
+    # per panel: the spheres, then the rods window by window
+    for point in sorted(points, key=lambda p: (p.panel, p.aspect != 1.0, p.window, p.aspect)):
         cells = [f"3{point.panel}", _aspect(point.aspect), _ratio_name(point.panel), window_text(point.window),
                  point.value_cell(), f"{point.ratio.n} of {point.planned}" if point.planned else "—"]
         if detail:
@@ -250,11 +267,11 @@ def run_orifice_means(run_dir, window):
     return {name: summary[name] for name in ORIFICE_QUANTITIES}
 
 
-def orifice_series(aspect, f, runs, packing):
+def orifice_series(aspect, f, runs, packing, window=EARLY):
     """The run (directory under doc/data) whose orifice series gives the
-    rods' (aspect, f) over WINDOW in `packing`: the 3.3 runs at rest are
-    the 8 s runs' 4 s twins (the module's docstring)."""
-    if aspect == 3.3 and f == 0.0:
+    rods' (aspect, f) over `window` in `packing`: over 2-4 s the 3.3 runs
+    at rest are the 8 s runs' 4 s twins (the module's docstring)."""
+    if aspect == 3.3 and f == 0.0 and window == EARLY:
         return ORIFICES.get((packing, D_MM))
     return runs.get((packing, f))
 
@@ -275,20 +292,23 @@ def orifice_points(data_dir=DATA_DIR):
     points = [OrificePoint(1.0, f, SPHERES_WINDOW, {}, 0, len(PACKINGS),
                            "none archived: the spheres' runs at 60 mm kept no dumps nor orifice series")
               for f in FREQUENCIES]
-    for aspect in ASPECTS[1:]:
-        runs, packings = rod_runs(data_dir, aspect)
-        for f in FREQUENCIES:
-            per_run = [means for packing in packings
-                       if (name := orifice_series(aspect, f, runs, packing)) is not None
-                       and (means := run_orifice_means(data_dir / name, WINDOW)) is not None]
-            values = {q: seed_mean_ci([m[q][0] for m in per_run], [m[q][1] for m in per_run],
-                                      [BLOCKS - 1] * len(per_run))[:2] for q in ORIFICE_QUANTITIES} if per_run else {}
-            note = ""
-            if aspect == 3.3 and f == 0.0:
-                note = "the 8 s runs' 4 s twins; the 3rd packing clogs at rest"
-            elif not per_run:
-                note = "under way"
-            points.append(OrificePoint(aspect, f, WINDOW, values, len(per_run), len(packings), note))
+    for window, frequencies in ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES)):
+        for aspect in ASPECTS[1:]:
+            runs, packings = rod_runs(data_dir, aspect, window)
+            for f in frequencies:
+                per_run = [means for packing in packings
+                           if (name := orifice_series(aspect, f, runs, packing, window)) is not None
+                           and (means := run_orifice_means(data_dir / name, window)) is not None]
+                values = {q: seed_mean_ci([m[q][0] for m in per_run], [m[q][1] for m in per_run],
+                                          [BLOCKS - 1] * len(per_run))[:2]
+                          for q in ORIFICE_QUANTITIES} if per_run else {}
+                note = ""
+                if aspect == 3.3 and f == 0.0:
+                    note = ("the 8 s runs' 4 s twins; the 3rd packing clogs at rest" if window == EARLY
+                            else "the Fig. 2c campaign's 8 s runs")
+                elif not per_run:
+                    note = "under way"
+                points.append(OrificePoint(aspect, f, window, values, len(per_run), len(packings), note))
     return points
 
 
@@ -338,8 +358,8 @@ def plot_by_frequency(data_dir, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    rates = rate_points(data_dir)
-    orifice = [p for p in orifice_points(data_dir) if p.n]
+    rates = [p for p in rate_points(data_dir) if p.window in (EARLY, SPHERES_WINDOW)]
+    orifice = [p for p in orifice_points(data_dir) if p.n and p.window == EARLY]
     fig, axes = plt.subplots(1, 4, figsize=(13, 3.6))
     fig.subplots_adjust(left=0.05, right=0.99, top=0.85, bottom=0.25, wspace=0.33)
     colours = dict(zip(ASPECTS, ("tab:grey", "tab:green", "tab:blue", "tab:purple")))
@@ -368,7 +388,7 @@ def plot_by_frequency(data_dir, path):
         ax.set_xlim(-0.12, F_FAST + 0.17)
     fig.legend(loc="lower center", ncols=len(ASPECTS), fontsize=8)
     fig.suptitle(f"D = {D_MM} mm: Q (the number: packings) and the orifice averages against f, "
-                 f"over {window_text(WINDOW)} (spheres: {window_text(SPHERES_WINDOW)}; no orifice series)",
+                 f"over {window_text(EARLY)} (spheres: {window_text(SPHERES_WINDOW)}; no orifice series)",
                  fontsize=9)
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -382,10 +402,11 @@ def planned_runs(data_dir):
     campaign will give it."""
     planned = [(1.0, f, packing, SPHERES[D_MM, f, seed], SPHERES_WINDOW)
                for f in FREQUENCIES for packing, seed in PACKINGS.items()]
-    for aspect in ASPECTS[1:]:
-        runs, packings = rod_runs(data_dir, aspect)
-        default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in FREQUENCIES}
-        planned += [(aspect, f, p, runs.get((p, f), default[p, f]), WINDOW) for f in FREQUENCIES for p in packings]
+    for window, frequencies in ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES)):
+        for aspect in ASPECTS[1:]:
+            runs, packings = rod_runs(data_dir, aspect, window)
+            default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in frequencies}
+            planned += [(aspect, f, p, runs.get((p, f), default[p, f]), window) for f in frequencies for p in packings]
     return planned
 
 
@@ -414,7 +435,8 @@ def data_table(data_dir=DATA_DIR):
              "the same window. A ratio over packings is the weighted mean of the packings' ratios, each",
              "± the two runs' block errors propagated, its error scaled up by sqrt(χ²/dof) when the",
              "packings disagree (analysis.silo3d_rotating.results.combine). Q_min is Q(0.32 Hz) at every",
-             "L/d (the lowest mean Q of the three L/d = 3.3 packings over 2–4 s). L/d = 2.5 and 4.0 come",
+             "L/d (the lowest mean Q of the three L/d = 3.3 packings over 2–4 s). Fig. 3a also over 4–8 s",
+             "of 8 s runs (the rate at rest still rises at 4 s; the module's docstring). L/d = 2.5 and 4.0 come",
              f"from the elongation campaign's stores ({store(2.5)}/, {store(4.0)}/; seeds",
              f"{PACKINGS['1st']} = 1st, {PACKINGS['2nd']} = 2nd) as their runs are archived. \"under way\": none",
              "archived yet. The paper gives no value of either ratio for any L/d; its statements are",
@@ -458,12 +480,18 @@ def results_rows(data_dir=DATA_DIR):
     rows = []
     for panel, quantity in (("a", f"Q_min/Q(0) against L/d, D = {D_MM} mm (Fig. 3a; Q_min = Q({F_MIN:g} Hz))"),
                             ("b", f"Q({F_FAST:g} Hz)/Q_min against L/d, D = {D_MM} mm (Fig. 3b)")):
-        ours = "; ".join(f"L/d = {_aspect(p.aspect)}: {p.value_cell()}"
-                         + (f" ({_packings(p.ratio.n)})" if p.ratio.n else "")
-                         for p in points if p.panel == panel)
+        groups = []
+        for window in WINDOWS[panel]:
+            mine = [p for p in points if p.panel == panel and (p.window == window or
+                                                                 (window == EARLY and p.aspect == 1.0))]
+            groups.append(f"over {window_text(window)}: " + "; ".join(
+                f"L/d = {_aspect(p.aspect)}: {p.value_cell()}" + (f" ({_packings(p.ratio.n)})" if p.ratio.n else "")
+                for p in mine))
+        ours = "; ".join(groups) if len(groups) == 1 else " — ".join(groups)
         paper = PAPER_TRENDS[panel] + (f"; down to {PAPER_DEEPEST_DROP:.2f} (“by even 70 %”) for its longest rods"
                                        if panel == "a" else "")
-        window = "0.5–2 s (spheres), 2–4 s (rods), both runs"
+        window = ("0.5–2 s (spheres), " + " and ".join(window_text(w) for w in WINDOWS[panel])
+                  + " (rods), both runs")
         # the cut against L/d is the paper's central claim: a headline
         rows.append(Row(quantity, paper, ours, window, "open", PAGE_SECTIONS["elongation"], headline=panel == "a"))
     return rows
@@ -478,22 +506,27 @@ def plot_fig3(data_dir, path):
     import matplotlib.pyplot as plt
     points = fig3_points(data_dir)
     fig, axes = plt.subplots(1, 2, figsize=(9, 4.3))
-    fig.subplots_adjust(left=0.07, right=0.98, top=0.86, bottom=0.2, wspace=0.25)
+    fig.subplots_adjust(left=0.07, right=0.98, top=0.86, bottom=0.24, wspace=0.25)
+    styles = {EARLY: ("o", "tab:blue", 0.0), LATE: ("s", "tab:orange", 0.2), SPHERES_WINDOW: ("o", "tab:blue", 0.0)}
     for ax, panel in zip(axes, PANELS):
         ax.axhline(1, color="grey", lw=0.6)
         for point in (p for p in points if p.panel == panel):
+            marker, colour, shift = styles[point.window]
             if not point.ratio.n:
+                if point.window == LATE:
+                    continue          # the early point's note says "under way" where neither has runs
                 # beside the paper's star at L/d = 1
                 where = (point.aspect + 0.12, 0.03) if point.aspect == 1.0 else (point.aspect, 0.03)
                 ax.annotate("under way", where,
                             xycoords=("data", "axes fraction"), rotation=90, fontsize=7, ha="center",
                             va="bottom", color="grey")
                 continue
+            x = point.aspect + shift
             for k, (_, value, se) in enumerate(point.ratio.parts):
-                ax.errorbar(point.aspect + 0.08 * (k + 1), value, yerr=se, fmt=".", color="tab:blue", alpha=0.4,
+                ax.errorbar(x + 0.06 * (k + 1), value, yerr=se, fmt=".", color=colour, alpha=0.4,
                             ms=4, capsize=1.5)
-            ax.errorbar(point.aspect, point.ratio.value, yerr=point.ratio.se, fmt="o", color="tab:blue", capsize=3)
-            ax.annotate(f"{_packings(point.ratio.n)},\n{window_text(point.window)}", (point.aspect, point.ratio.value),
+            ax.errorbar(x, point.ratio.value, yerr=point.ratio.se, fmt=marker, color=colour, capsize=3)
+            ax.annotate(f"{_packings(point.ratio.n)},\n{window_text(point.window)}", (x, point.ratio.value),
                         xytext=(-8, 0), textcoords="offset points", fontsize=7, ha="right", va="center")
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)
@@ -509,11 +542,14 @@ def plot_fig3(data_dir, path):
     axes[1].set_ylim(bottom=0.5)
     axes[1].set_title("(b) the rise after the minimum", fontsize=10)
     handles = [axes[1].plot([], [], "o", color="tab:blue")[0],
+               axes[1].plot([], [], "s", color="tab:orange")[0],
                axes[1].plot([], [], ".", color="tab:blue", alpha=0.4)[0],
                axes[1].plot([], [], "*", color="tab:red", mfc="none")[0]]
-    fig.legend(handles, ["ours: weighted mean over the packings ± se", "each packing ± its runs' block errors",
+    fig.legend(handles, [f"ours over {window_text(EARLY)} (spheres {window_text(SPHERES_WINDOW)}): "
+                         "weighted mean over the packings ± se",
+                         f"ours over {window_text(LATE)} (8 s runs)", "each packing ± its runs' block errors",
                          "paper, spheres: “≈ 5 % drop then ≈ 5 % increase” (Fig. 2a's text)"],
-               loc="lower center", ncols=3, fontsize=7)
+               loc="lower center", ncols=2, fontsize=7)
     fig.suptitle(f"D = {D_MM} mm: Fig. 3 of Pongó et al. 2022 from our runs (both rates of a ratio over one window)",
                  fontsize=9)
     fig.savefig(path, dpi=120)

@@ -221,7 +221,7 @@ def test_fig_3a_over_4_8_s_pairs_the_8_s_runs_and_leaves_4_s_runs_out(data_with_
     data = data_with_a_store
     assert elongation.rod_point(data, 4.0, "a", elongation.LATE).ratio.n == 0     # the fixture's 0.32 Hz run: 4 s
     table = elongation.data_table(data)
-    assert f"| 4.0 | 0.32 | 2nd | 4–8 s | — (records end at " in table
+    assert "| 4.0 | 0.32 | 2nd | 4–8 s | — (records end at " in table
     late_032 = DATA_DIR / "silo3d_rods_drop_8s" / f"D0.06_f0.16_s{SEED}"
     copy_run(late_032, data / elongation.store(3.3) / f"D0.06_f0.32_s{SEED}", f=(0.16, 0.32))
     store = data / elongation.store(4.0)

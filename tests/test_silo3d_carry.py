@@ -231,7 +231,7 @@ def test_a_finished_run_is_to_analyse_until_it_is_analysed_since_it_finished_or_
     assert silo3d_carry.to_analyse(tmp_path / "machine2", store) == []
 
 
-def test_a_finished_run_made_longer_is_carried_and_then_replaces_its_archive(tmp_path, capsys):
+def test_a_finished_run_made_longer_is_carried_and_then_replaces_its_archive(tmp_path):
     """run.sh made a finished, archived run longer: while it goes on it is
     carried, and the next machine resumes it rather than taking the shorter
     archive for done; once finished it is to analyse again and its archive

@@ -231,8 +231,8 @@ def test_fig_3a_over_4_8_s_pairs_the_8_s_runs_and_leaves_4_s_runs_out(data_with_
     at_3_3 = elongation.rod_point(data, 3.3, "a", elongation.LATE)
     at_4_0 = elongation.rod_point(data, 4.0, "a", elongation.LATE)
     assert [p[0] for p in at_3_3.ratio.parts] == ["2nd"] and at_3_3.planned == 2
-    assert_parts_are_rate_ratios(at_3_3, lambda packing, f: data / (elongation.store(3.3) if f else "")
-                                 / (f"D0.06_f0.32_s{SEED}" if f else FIG2C["2nd", 0.0]), 0.32, 0.0, (4, 8), within=2)
+    runs_3_3 = {0.0: data / FIG2C["2nd", 0.0], 0.32: data / elongation.store(3.3) / f"D0.06_f0.32_s{SEED}"}
+    assert_parts_are_rate_ratios(at_3_3, lambda packing, f: runs_3_3[f], 0.32, 0.0, (4, 8), within=2)
     assert at_4_0.ratio.value == at_3_3.ratio.value and at_4_0.ratio.se == at_3_3.ratio.se
     # the same 8 s runs give the 2-4 s point too, and it differs
     early = elongation.rod_point(data, 4.0, "a")

@@ -88,6 +88,7 @@ EARLY = (2, 4)                             # the rods, at every L/d: Fig. 3b, an
 LATE = (4, 8)                              # Fig. 3a over the 8 s runs at f = 0 and 0.32 Hz (the docstring)
 WINDOWS = {"a": (EARLY, LATE), "b": (EARLY,)}
 LATE_FREQUENCIES = (0.0, F_MIN)            # the runs that last 8 s
+RUN_WINDOWS = ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES))   # each window and the runs read over it
 SPHERES_WINDOW = (0.5, 2)                  # the spheres' 2 s runs
 ORIFICE_QUANTITIES = {"phi": "⟨φ⟩", "v_z": "⟨v_z⟩ (m/s)", "O_zz": "⟨O_zz⟩"}
 PANELS = {"a": (F_MIN, 0.0), "b": (F_FAST, F_MIN)}   # Fig. 3's panels: (f, f_ref) of Q(f)/Q(f_ref)
@@ -292,7 +293,7 @@ def orifice_points(data_dir=DATA_DIR):
     points = [OrificePoint(1.0, f, SPHERES_WINDOW, {}, 0, len(PACKINGS),
                            "none archived: the spheres' runs at 60 mm kept no dumps nor orifice series")
               for f in FREQUENCIES]
-    for window, frequencies in ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES)):
+    for window, frequencies in RUN_WINDOWS:
         for aspect in ASPECTS[1:]:
             runs, packings = rod_runs(data_dir, aspect, window)
             for f in frequencies:
@@ -402,7 +403,7 @@ def planned_runs(data_dir):
     campaign will give it."""
     planned = [(1.0, f, packing, SPHERES[D_MM, f, seed], SPHERES_WINDOW)
                for f in FREQUENCIES for packing, seed in PACKINGS.items()]
-    for window, frequencies in ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES)):
+    for window, frequencies in RUN_WINDOWS:
         for aspect in ASPECTS[1:]:
             runs, packings = rod_runs(data_dir, aspect, window)
             default = {(p, f): f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[p]}" for p in packings for f in frequencies}

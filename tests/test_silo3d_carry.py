@@ -10,6 +10,7 @@ removed."""
 import lzma
 import os
 import shutil
+import subprocess
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from analysis.campaign import silo3d_carry
 from analysis.campaign import silo3d_status
 from analysis.silo3d_rotating import analyse as silo
 from analysis.common.lammps_io import read_dump
+from analysis.silo3d_rotating.records import read_run_info
 from test_silo3d_rotating_analysis import DT, T_OPEN, write_run
 
 SCREEN = "Loop time of 360 on 1 procs for 500 steps with 100 atoms\n"
@@ -274,3 +276,52 @@ def test_a_finished_run_made_longer_is_carried_and_then_replaces_its_archive(tmp
     assert [p.name for p in store.iterdir()] == [finished.name]      # no .part, no .shorter left
     assert not (carry / finished.name).exists()
     assert silo3d_carry.keep(machine2, store, carry=carry)[0] == f"{finished.name}: archived before"
+
+
+def git(top, *words):
+    environment = {**os.environ, "GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t",
+                   "GIT_COMMITTER_EMAIL": "t@t"}
+    subprocess.run(["git", "-C", str(top), *words], check=True, capture_output=True, env=environment)
+
+
+def test_an_archived_run_shorter_than_the_protocol_reopens_at_its_last_checkpoint_in_the_history(tmp_path):
+    """A protocol made longer after its runs finished: on a new machine a
+    finished run comes back from its archive, and `reopen` puts it back at
+    its last checkpoint carried in the git history (the carry folder was
+    removed when it finished), from where run.sh makes it longer. A run
+    never carried, or already as long as the protocol, stays as it is."""
+    top = tmp_path / "repo"
+    store = top / "doc" / "data" / "campaign"
+    git(tmp_path, "init", "-q", str(top))
+    finished, stopped, step = make_campaign(tmp_path / "machine1")    # stopped: discharge_time 8.0
+    with open(finished / "run.txt", "a") as run_txt:
+        run_txt.write("discharge_time 3.0\n")
+    silo3d_carry.keep(tmp_path / "machine1", store)
+    git(top, "add", "-A")
+    git(top, "commit", "-qm", "carried at 2 s")
+    # the stopped run finishes (8 s) and is archived; its carried folder goes
+    shutil.rmtree(stopped)
+    write_run(stopped, 0.0, 0.03, 11, 20.0, duration=8.0)
+    with open(stopped / "run.txt", "a") as run_txt:
+        run_txt.write("discharge_time 8.0\n")
+    silo3d_carry.keep(tmp_path / "machine1", store)
+    assert not (top / "carry" / "campaign" / stopped.name).exists()
+    git(top, "add", "-A")
+    git(top, "commit", "-qm", "archived")
+
+    machine2 = tmp_path / "machine2"
+    silo3d_carry.restore(store, machine2)
+    lines = silo3d_carry.reopen(machine2, store, {0.0: 10.0, 0.32: 10.0})
+    reopened = machine2 / stopped.name
+    assert lines[0] == f"{finished.name}: 3 s, shorter than 10 s, but no carried checkpoint in the history: " \
+                       "left as it is"
+    assert lines[1].startswith(f"{stopped.name}: 8 s, shorter than 10 s: reopened at its checkpoint of step {step}, "
+                               "carried in ") and len(lines) == 2
+    assert not (reopened / silo3d_carry.MARK).exists() and "finished" not in read_run_info(reopened)
+    assert checkpoint.last_checkpoint(reopened)[0] == step
+    assert checkpoint.resume_variables(reopened)["step_open_resumed"] == round(T_OPEN / DT)
+    assert (machine2 / finished.name / silo3d_carry.MARK).exists()            # never carried: as it was
+    # as long as the protocol: nothing to do; outside a git work tree: nothing found
+    silo3d_carry.restore(store, tmp_path / "machine3")
+    assert silo3d_carry.reopen(tmp_path / "machine3", store, {0.0: 8.0, 0.32: 3.0}) == []
+    assert silo3d_carry.carried_in_history(tmp_path / "elsewhere" / "carry" / "campaign" / stopped.name) is None

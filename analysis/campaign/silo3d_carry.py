@@ -43,6 +43,14 @@ campaign lives in two places of the repository:
         records are cut back to it). A run made longer than its archive
         (run.sh with a larger DISCHARGE) is carried while it goes on and
         replaces its archive when it has finished.
+    python3 -m analysis.campaign.silo3d_carry reopen STORE RUN_DIR --length F T [--length F T ...] [--carry DIR]
+        After `restore`: each run of RUN_DIR restored from an archive
+        whose discharge is shorter than T s, its frequency being F Hz (a
+        protocol made longer), is replaced by its newest carried folder
+        in the git history (its last checkpoint before it finished, and
+        its records up to it), from which run.sh goes on to the new
+        length. A run never carried (it finished within one session)
+        stays as it is.
     python3 -m analysis.campaign.silo3d_carry to-analyse RUN_DIR STORE [--analysis OUT]
         Prints the finished runs of RUN_DIR whose orifice tables and fields
         are still to make: neither restored from nor kept in an archive,
@@ -68,9 +76,13 @@ the run (analysis.silo3d_rotating RUN_DIR/D* --out RUN_DIR/analysis ...)
 before `keep` archives it.
 """
 
+import io
 import lzma
 import shutil
+import subprocess
 import sys
+import tarfile
+import tempfile
 from pathlib import Path
 
 from analysis.campaign import checkpoint
@@ -270,6 +282,57 @@ def restore_packings(carry, run_dir):
     return lines
 
 
+def carried_in_history(carried):
+    """(work tree, commit) of the newest commit in whose tree `carried` (a
+    run's folder under carry/) held a checkpoint listing, or None: no git
+    work tree above it, or never carried."""
+    carried = Path(carried).resolve()
+    top = next((p for p in carried.parents if (p / ".git").exists()), None)
+    if top is None:
+        return None
+    listing = str(carried.relative_to(top) / checkpoint.CHECKPOINTS)
+    git = ["git", "-C", str(top)]
+    commits = subprocess.run(git + ["log", "--format=%H", "--", listing], capture_output=True, text=True).stdout
+    for commit in commits.split():       # newest first; a commit that removed it lists it too
+        if subprocess.run(git + ["cat-file", "-e", f"{commit}:{listing}"], capture_output=True).returncode == 0:
+            return top, commit
+    return None
+
+
+def reopen(run_dir, store, lengths, carry=None):
+    """Replaces each run of run_dir restored from an archive (MARK) whose
+    discharge_time is shorter than lengths[f] by its newest carried folder
+    in the git history (the module's docstring); returns one line per run
+    that is too short."""
+    run_dir, store = Path(run_dir), Path(store)
+    carry = Path(carry) if carry is not None else carry_dir(store)
+    lines = []
+    for run in run_dirs(run_dir):
+        info = read_run_info(run, required=("f",))
+        wanted = next((t for f, t in lengths.items() if abs(f - info["f"]) < 1e-9), None)
+        ran = discharge_time(run)
+        if not (run / MARK).exists() or wanted is None or ran is None or ran >= wanted:
+            continue
+        found = carried_in_history(carry / run.name)
+        if found is None:
+            lines.append(f"{run.name}: {ran:g} s, shorter than {wanted:g} s, but no carried checkpoint in the "
+                         "history: left as it is")
+            continue
+        top, commit = found
+        folder = (carry / run.name).resolve().relative_to(top)
+        packed = subprocess.run(["git", "-C", str(top), "archive", commit, str(folder)], capture_output=True,
+                                check=True).stdout
+        with tempfile.TemporaryDirectory() as temporary:
+            with tarfile.open(fileobj=io.BytesIO(packed)) as tar:
+                tar.extractall(temporary)        # our own history
+            shutil.rmtree(run)                   # a copy of its archive, which stays in the store
+            checkpoint.restore(Path(temporary) / folder, run)
+        step, _ = checkpoint.last_checkpoint(run)
+        lines.append(f"{run.name}: {ran:g} s, shorter than {wanted:g} s: reopened at its checkpoint of step {step}, "
+                     f"carried in {commit[:7]}")
+    return lines
+
+
 def drop_packings(carry):
     """Removes the campaign's carried packings (and the carry directory once
     it holds nothing): the end of a campaign carries nothing."""
@@ -345,6 +408,13 @@ def main(argv=None):
     restoring.add_argument("--also", nargs="+", type=Path, default=[], metavar="ARCHIVE",
                            help="more finished runs' archives (analysis.campaign.silo3d_archive)")
     restoring.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
+    reopening = actions.add_parser("reopen", help="runs restored from archives shorter than the protocol: "
+                                                  "back to their last carried checkpoint in the history")
+    reopening.add_argument("store", type=Path)
+    reopening.add_argument("run_dir", type=Path)
+    reopening.add_argument("--length", nargs=2, type=float, action="append", required=True, metavar=("F", "T"),
+                           help="the protocol's discharge T (s) at the frequency F (Hz)")
+    reopening.add_argument("--carry", type=Path, metavar="DIR", help=carry_help)
     pending = actions.add_parser("to-analyse", help="print the finished runs whose orifice tables and "
                                                     "fields are still to make (not archived, not analysed)")
     pending.add_argument("run_dir", type=Path)
@@ -375,6 +445,10 @@ def main(argv=None):
             return 0
         elif args.action == "restore":
             lines = restore(args.store, args.run_dir, args.also, args.carry)
+        elif args.action == "reopen":
+            lines = reopen(args.run_dir, args.store, dict(args.length), args.carry)
+            if not lines:
+                return 0
         else:
             lines = drop_packings(args.carry if args.carry is not None else carry_dir(args.store))
     except (ValueError, FileNotFoundError) as error:

@@ -10,7 +10,9 @@
 #
 #   bash examples/silo3d_rotating/rods_fig2c.sh run  RUN_DIR
 #       puts the store's runs into RUN_DIR (finished ones as done, unfinished
-#       ones at their last checkpoint), runs what is left with run.sh and,
+#       ones at their last checkpoint; a finished one shorter than PROTOCOL
+#       says, at its last checkpoint carried in the history, if any: it is
+#       made longer), runs what is left with run.sh and,
 #       when all are done, analyses the whole campaign into RUN_DIR/analysis
 #   bash examples/silo3d_rotating/rods_fig2c.sh keep RUN_DIR
 #       before the machine goes (the runs may go on): analyses the finished
@@ -100,6 +102,12 @@ if [ "$ACTION" = keep ]; then
 fi
 
 analysis analysis.campaign.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
+# an archived run shorter than the protocol (one made longer since) goes on
+# from its last checkpoint carried in the history, when it has one
+LENGTHS=()
+set -- $DISCHARGE_AT
+while [ $# -ge 2 ]; do LENGTHS+=(--length "$1" "$2"); shift 2; done
+analysis analysis.campaign.silo3d_carry reopen "$STORE" "$RUN_DIR" "${LENGTHS[@]}"
 # (DISCHARGE and TRANSIENT are each frequency's, from DISCHARGE_AT and
 # TRANSIENT_AT: run.sh needs defaults, never used)
 SHAPE=rod ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" SETTLE_CHECKPOINT="$SETTLE_CHECKPOINT" \

@@ -318,10 +318,12 @@ def test_run_sh_killed_after_a_checkpoint_finishes_the_run_from_it(tmp_path, sto
     frames = [step for step, _ in read_dump(run_dir / "dump.cg")]
     assert np.all(np.diff(frames) == interval) and steps[-1] - frames[-1] < interval
     assert [line.split()[0] for line in (run_dir / "run.txt").read_text().splitlines()].count("finished") == 1
-    # shorter than it ran, or no checkpoint left: skipped
+    # shorter than it ran, or no checkpoint left to go on from (a restart
+    # file that checkpoints.txt does not list is none): skipped
     for discharge, checkpoints in (("0.5", True), ("0.7", False)):
         if not checkpoints:
             checkpoint.remove_checkpoints(run_dir)
+            (run_dir / "checkpoint.1.restart").write_bytes(b"not listed")
         again = subprocess.run(command, env={**environment, "DISCHARGE": discharge}, capture_output=True,
                                text=True, timeout=600)
         assert f"done before with a discharge of 0.6 s, not {discharge}: skipped" in again.stdout

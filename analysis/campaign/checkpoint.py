@@ -18,6 +18,8 @@ interruption, this module
     python3 -m analysis.campaign.checkpoint resume RUN_DIR   # cuts, prints "-var name value ..."
     python3 -m analysis.campaign.checkpoint settle-resume PACKING_DIR
                                                     # the same for a settling cut short
+    python3 -m analysis.campaign.checkpoint last RUN_DIR     # prints "step file" of the checkpoint
+                                                    # resume would go on from, or nothing
     python3 -m analysis.campaign.checkpoint clean RUN_DIR    # removes the checkpoint files
                                                     # (and LIGGGHTS' forced restart)
     python3 -m analysis.campaign.checkpoint clean RUN_DIR --keep-last
@@ -244,7 +246,7 @@ def main(argv=None):
                           "/usr/bin/python3 -m analysis.campaign.checkpoint resume "
                           "runs/rods_fig2c/D0.06_f0.16_s32452843")
     actions = parser.add_subparsers(dest="action", required=True)
-    for action in ("resume", "settle-resume"):
+    for action in ("resume", "settle-resume", "last"):
         actions.add_parser(action).add_argument("run_dir")
     cleaning = actions.add_parser("clean", help="remove the checkpoint files")
     cleaning.add_argument("run_dir")
@@ -260,6 +262,11 @@ def main(argv=None):
     restoring.add_argument("kept")
     restoring.add_argument("run_dir")
     args = parser.parse_args(argv)
+    if args.action == "last":
+        found = last_checkpoint(args.run_dir)
+        if found is not None:
+            print(found[0], found[1].name)
+        return 0
     if args.action == "clean":
         remove_checkpoints(args.run_dir, args.keep_last)
         return 0

@@ -283,19 +283,20 @@ def restore_packings(carry, run_dir):
 
 
 def carried_in_history(carried):
-    """(work tree, commit) of the newest commit in whose tree `carried` (a
-    run's folder under carry/) held a checkpoint listing, or None: no git
-    work tree above it, or never carried."""
+    """(work tree, commit, the folder's path in it) of the newest commit in
+    whose tree `carried` (a run's folder under carry/) held a checkpoint
+    listing, or None: no git work tree above it, or never carried."""
     carried = Path(carried).resolve()
     top = next((p for p in carried.parents if (p / ".git").exists()), None)
     if top is None:
         return None
-    listing = str(carried.relative_to(top) / checkpoint.CHECKPOINTS)
+    folder = carried.relative_to(top)
+    listing = str(folder / checkpoint.CHECKPOINTS)
     git = ["git", "-C", str(top)]
     commits = subprocess.run(git + ["log", "--format=%H", "--", listing], capture_output=True, text=True).stdout
     for commit in commits.split():       # newest first; a commit that removed it lists it too
         if subprocess.run(git + ["cat-file", "-e", f"{commit}:{listing}"], capture_output=True).returncode == 0:
-            return top, commit
+            return top, commit, folder
     return None
 
 
@@ -318,8 +319,7 @@ def reopen(run_dir, store, lengths, carry=None):
             lines.append(f"{run.name}: {ran:g} s, shorter than {wanted:g} s, but no carried checkpoint in the "
                          "history: left as it is")
             continue
-        top, commit = found
-        folder = (carry / run.name).resolve().relative_to(top)
+        top, commit, folder = found
         packed = subprocess.run(["git", "-C", str(top), "archive", commit, str(folder)], capture_output=True,
                                 check=True).stdout
         with tempfile.TemporaryDirectory() as temporary:

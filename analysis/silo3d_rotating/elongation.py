@@ -488,7 +488,7 @@ def results_rows(data_dir=DATA_DIR):
             groups.append(f"over {window_text(window)}: " + "; ".join(
                 f"L/d = {_aspect(p.aspect)}: {p.value_cell()}" + (f" ({_packings(p.ratio.n)})" if p.ratio.n else "")
                 for p in mine))
-        ours = "; ".join(groups) if len(groups) == 1 else " — ".join(groups)
+        ours = " — ".join(groups)
         paper = PAPER_TRENDS[panel] + (f"; down to {PAPER_DEEPEST_DROP:.2f} (“by even 70 %”) for its longest rods"
                                        if panel == "a" else "")
         window = ("0.5–2 s (spheres), " + " and ".join(window_text(w) for w in WINDOWS[panel])

@@ -231,7 +231,7 @@ discharge() {  # one (D, f, seed) run
     if awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 == b + 0) }'; then
       log "D $D f $f seed $seed: done before, skipped"; return 0
     elif awk -v a="$ran" -v b="$length" 'BEGIN { exit !(a + 0 < b + 0) }' \
-        && compgen -G "$dir/checkpoint.*.restart" > /dev/null; then
+        && [ -n "$(analysis analysis.campaign.checkpoint last "$dir")" ]; then
       # resume cuts run.txt's `finished` line and the records after the checkpoint
       log "D $D f $f seed $seed: done before with a discharge of $ran s: made longer, to $length s"
       rm "$dir/finished"

@@ -289,7 +289,9 @@ def test_an_archived_run_shorter_than_the_protocol_reopens_at_its_last_checkpoin
     finished run comes back from its archive, and `reopen` puts it back at
     its last checkpoint carried in the git history (the carry folder was
     removed when it finished), from where run.sh makes it longer. A run
-    never carried, or already as long as the protocol, stays as it is."""
+    never carried is emptied, for run.sh to run it again from its packing,
+    its archive left in the store; one as long as the protocol stays as it
+    is. Called again, `reopen` finds nothing more to do."""
     top = tmp_path / "repo"
     store = top / "doc" / "data" / "campaign"
     git(tmp_path, "init", "-q", str(top))
@@ -313,14 +315,17 @@ def test_an_archived_run_shorter_than_the_protocol_reopens_at_its_last_checkpoin
     silo3d_carry.restore(store, machine2)
     lines = silo3d_carry.reopen(machine2, store, {0.0: 10.0, 0.32: 10.0})
     reopened = machine2 / stopped.name
-    assert lines[0] == f"{finished.name}: 3 s, shorter than 10 s, but no carried checkpoint in the history: " \
-                       "left as it is"
+    assert lines[0] == f"{finished.name}: 3 s, shorter than 10 s, and no carried checkpoint in the history: " \
+                       "emptied, to run again from its packing"
     assert lines[1].startswith(f"{stopped.name}: 8 s, shorter than 10 s: reopened at its checkpoint of step {step}, "
                                "carried in ") and len(lines) == 2
     assert not (reopened / silo3d_carry.MARK).exists() and "finished" not in read_run_info(reopened)
     assert checkpoint.last_checkpoint(reopened)[0] == step
     assert checkpoint.resume_variables(reopened)["step_open_resumed"] == round(T_OPEN / DT)
-    assert (machine2 / finished.name / silo3d_carry.MARK).exists()            # never carried: as it was
+    never_carried = machine2 / finished.name                 # run.sh runs it again from its packing
+    assert never_carried.is_dir() and not any(never_carried.iterdir())
+    assert (store / finished.name / "run.txt").exists()                        # its archive stays
+    assert silo3d_carry.reopen(machine2, store, {0.0: 10.0, 0.32: 10.0}) == []
     # as long as the protocol: nothing to do; outside a git work tree: nothing found
     silo3d_carry.restore(store, tmp_path / "machine3")
     assert silo3d_carry.reopen(tmp_path / "machine3", store, {0.0: 8.0, 0.32: 3.0}) == []

@@ -48,9 +48,9 @@ campaign lives in two places of the repository:
         whose discharge is shorter than T s, its frequency being F Hz (a
         protocol made longer), is replaced by its newest carried folder
         in the git history (its last checkpoint before it finished, and
-        its records up to it), from which run.sh goes on to the new
-        length. A run never carried (it finished within one session)
-        stays as it is.
+        length. A run never carried (it finished within one session) is
+        emptied instead, so that run.sh runs it again from its packing;
+        its archive stays in STORE until the longer run replaces it.
     python3 -m analysis.campaign.silo3d_carry to-analyse RUN_DIR STORE [--analysis OUT]
         Prints the finished runs of RUN_DIR whose orifice tables and fields
         are still to make: neither restored from nor kept in an archive,
@@ -303,8 +303,8 @@ def carried_in_history(carried):
 def reopen(run_dir, store, lengths, carry=None):
     """Replaces each run of run_dir restored from an archive (MARK) whose
     discharge_time is shorter than lengths[f] by its newest carried folder
-    in the git history (the module's docstring); returns one line per run
-    that is too short."""
+    in the git history, or by an empty folder when it was never carried
+    (the module's docstring); returns one line per run that is too short."""
     run_dir, store = Path(run_dir), Path(store)
     carry = Path(carry) if carry is not None else carry_dir(store)
     lines = []
@@ -316,8 +316,12 @@ def reopen(run_dir, store, lengths, carry=None):
             continue
         found = carried_in_history(carry / run.name)
         if found is None:
-            lines.append(f"{run.name}: {ran:g} s, shorter than {wanted:g} s, but no carried checkpoint in the "
-                         "history: left as it is")
+            # nothing to go on from: the whole run again (the same trajectory,
+            # in the same binary), rather than never the longer one
+            shutil.rmtree(run)                   # a copy of its archive, which stays in the store
+            run.mkdir()
+            lines.append(f"{run.name}: {ran:g} s, shorter than {wanted:g} s, and no carried checkpoint in the "
+                         "history: emptied, to run again from its packing")
             continue
         top, commit, folder = found
         packed = subprocess.run(["git", "-C", str(top), "archive", commit, str(folder)], capture_output=True,

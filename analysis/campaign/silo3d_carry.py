@@ -48,6 +48,7 @@ campaign lives in two places of the repository:
         whose discharge is shorter than T s, its frequency being F Hz (a
         protocol made longer), is replaced by its newest carried folder
         in the git history (its last checkpoint before it finished, and
+        its records up to it), from which run.sh goes on to the new
         length. A run never carried (it finished within one session) is
         emptied instead, so that run.sh runs it again from its packing;
         its archive stays in STORE until the longer run replaces it.

@@ -103,7 +103,8 @@ fi
 
 analysis analysis.campaign.silo3d_carry restore "$STORE" "$RUN_DIR" $([ -n "$ALSO" ] && echo --also $ALSO)
 # an archived run shorter than the protocol (one made longer since) goes on
-# from its last checkpoint carried in the history, when it has one
+# from its last checkpoint carried in the history, or, never carried, runs
+# again from its packing
 LENGTHS=()
 set -- $DISCHARGE_AT
 while [ $# -ge 2 ]; do LENGTHS+=(--length "$1" "$2"); shift 2; done

@@ -509,6 +509,7 @@ def plot_fig3(data_dir, path):
     fig, axes = plt.subplots(1, 2, figsize=(9, 4.3))
     fig.subplots_adjust(left=0.07, right=0.98, top=0.86, bottom=0.24, wspace=0.25)
     styles = {EARLY: ("o", "tab:blue", 0.0), LATE: ("s", "tab:orange", 0.2), SPHERES_WINDOW: ("o", "tab:blue", 0.0)}
+    packing_step = 0.06       # each packing's point right of the mean, one step apart
     for ax, panel in zip(axes, PANELS):
         ax.axhline(1, color="grey", lw=0.6)
         for point in (p for p in points if p.panel == panel):
@@ -524,14 +525,21 @@ def plot_fig3(data_dir, path):
                 continue
             x = point.aspect + shift
             for k, (_, value, se) in enumerate(point.ratio.parts):
-                ax.errorbar(x + 0.06 * (k + 1), value, yerr=se, fmt=".", color=colour, alpha=0.4,
+                ax.errorbar(x + packing_step * (k + 1), value, yerr=se, fmt=".", color=colour, alpha=0.4,
                             ms=4, capsize=1.5)
             ax.errorbar(x, point.ratio.value, yerr=point.ratio.se, fmt=marker, color=colour, capsize=3)
-            ax.annotate(f"{_packings(point.ratio.n)},\n{window_text(point.window)}", (x, point.ratio.value),
-                        xytext=(-8, 0), textcoords="offset points", fontsize=7, ha="right", va="center")
+            # the early point's label on its left, the late one's right of its packings, so
+            # that the two at one L/d do not overlap
+            label = f"{_packings(point.ratio.n)},\n{window_text(point.window)}"
+            if point.window == LATE:
+                ax.annotate(label, (x + packing_step * len(point.ratio.parts), point.ratio.value), xytext=(6, 0),
+                            textcoords="offset points", fontsize=7, ha="left", va="center")
+            else:
+                ax.annotate(label, (x, point.ratio.value), xytext=(-8, 0), textcoords="offset points",
+                            fontsize=7, ha="right", va="center")
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)
-        ax.set_xlim(0.5, 4.5)
+        ax.set_xlim(0.5, 4.8)      # room for the 4–8 s labels right of L/d = 4.0
         ax.set_xlabel("L/d (1: spheres)")
     axes[0].axhline(PAPER_DEEPEST_DROP, color="tab:red", ls=":", lw=1)
     axes[0].text(0.55, PAPER_DEEPEST_DROP - 0.02, "paper: “by even 70 %”\n(its longest rods, any orifice)",

@@ -532,11 +532,11 @@ def plot_fig3(data_dir, path):
             # that the two at one L/d do not overlap
             label = f"{_packings(point.ratio.n)},\n{window_text(point.window)}"
             if point.window == LATE:
-                ax.annotate(label, (x + packing_step * len(point.ratio.parts), point.ratio.value), xytext=(6, 0),
-                            textcoords="offset points", fontsize=7, ha="left", va="center")
+                anchor, offset, align = x + packing_step * len(point.ratio.parts), 6, "left"
             else:
-                ax.annotate(label, (x, point.ratio.value), xytext=(-8, 0), textcoords="offset points",
-                            fontsize=7, ha="right", va="center")
+                anchor, offset, align = x, -8, "right"
+            ax.annotate(label, (anchor, point.ratio.value), xytext=(offset, 0), textcoords="offset points",
+                        fontsize=7, ha=align, va="center")
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)
         ax.set_xlim(0.5, 4.8)      # room for the 4–8 s labels right of L/d = 4.0

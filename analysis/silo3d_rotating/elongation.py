@@ -529,14 +529,19 @@ def plot_fig3(data_dir, path):
                             ms=4, capsize=1.5)
             ax.errorbar(x, point.ratio.value, yerr=point.ratio.se, fmt=marker, color=colour, capsize=3)
             # the early point's label on its left, the late one's right of its packings, so
-            # that the two at one L/d do not overlap
+            # that the two at one L/d do not overlap; the rods' early label below its error
+            # bar, clear of the late packings of the L/d before it
             label = f"{_packings(point.ratio.n)},\n{window_text(point.window)}"
             if point.window == LATE:
-                anchor, offset, align = x + packing_step * len(point.ratio.parts), 6, "left"
+                anchor = (x + packing_step * len(point.ratio.parts), point.ratio.value)
+                offset, align, vertical = 6, "left", "center"
+            elif point.aspect == 1.0:
+                anchor, offset, align, vertical = (x, point.ratio.value), -8, "right", "center"
             else:
-                anchor, offset, align = x, -8, "right"
-            ax.annotate(label, (anchor, point.ratio.value), xytext=(offset, 0), textcoords="offset points",
-                        fontsize=7, ha=align, va="center")
+                anchor = (x, point.ratio.value - point.ratio.se)
+                offset, align, vertical = -8, "right", "top"
+            ax.annotate(label, anchor, xytext=(offset, 0), textcoords="offset points",
+                        fontsize=7, ha=align, va=vertical)
         ax.plot(1.0, PAPER_SPHERES[panel], "*", color="tab:red", ms=9, mfc="none")
         ax.set_xticks(ASPECTS)
         ax.set_xlim(0.5, 4.8)      # room for the 4–8 s labels right of L/d = 4.0

@@ -27,7 +27,8 @@ Fig. 3a is taken over 4-8 s too (LATE), the issue's window where the rate
 at rest still rises at 4 s, as it does at 2.5 and 3.3
 (doc/campaigns/silo3d_rotating.md, "Which window"): the first two
 packings of every rod L/d, from 8 s runs at f = 0 and 0.32 Hz; at 3.3
-the Fig. 2c campaign's 8 s runs at rest and the elongation campaign's
+the 8 s runs at rest of earlier campaigns (silo3d_rods_drop_8s,
+silo3d_rods_fig2c) and the elongation campaign's
 (its stage 7) at 0.32 Hz, in silo3d_rods_elongation_L3.3/. Fig. 3b
 stays over 2-4 s (its 1.28 Hz runs last 4 s).
 
@@ -306,7 +307,7 @@ def orifice_points(data_dir=DATA_DIR):
                 note = ""
                 if aspect == 3.3 and f == 0.0:
                     note = ("the 8 s runs' 4 s twins; the 3rd packing clogs at rest" if window == EARLY
-                            else "the Fig. 2c campaign's 8 s runs")
+                            else "earlier campaigns' 8 s runs (drop_8s, fig2c)")
                 elif not per_run:
                     note = "under way"
                 points.append(OrificePoint(aspect, f, window, values, len(per_run), len(packings), note))

@@ -24,7 +24,8 @@
 #       restores what earlier machines carried and runs the stages in order
 #       (each stage's settling and runs resume where they stopped)
 #   bash examples/silo3d_rotating/rods_elongation.sh keep RUN_DIR
-#       before the machine goes (the runs may go on): analyses and archives
+#       every hour and before the machine goes (the runs may go on; a
+#       session can end without warning): analyses and archives
 #       the finished runs into doc/data/silo3d_rods_elongation_L<aspect>
 #       and carries the rest into carry/; then commit both
 #

@@ -13,7 +13,8 @@
 #   3. 2.5, first packing, f = 0 and 0.32     4. 2.5, second packing, same
 #   5. 4.0, both packings, f = 1.28           6. 2.5, both packings, f = 1.28
 #   7. 3.3, first and second packings, f = 0.32, 8 s: the 3.3 point over
-#      4-8 s (its 8 s runs at rest are the Fig. 2c campaign's); its packings
+#      4-8 s (its 8 s runs at rest are earlier campaigns': silo3d_rods_drop_8s
+#      for the first packing, silo3d_rods_fig2c for the second); its packings
 #      are the Fig. 2c campaign's, carried in carry/silo3d_rods_elongation_L3.3
 #
 # A finished 4 s run of stages 1-4 is made 8 s long from its last

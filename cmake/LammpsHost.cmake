@@ -86,7 +86,10 @@ target_compile_options(silokit_lammps PRIVATE -O3 -Wall)
 target_link_libraries(silokit_lammps PRIVATE MPI::MPI_CXX)
 set_target_properties(silokit_lammps PROPERTIES
   PREFIX "" LIBRARY_OUTPUT_DIRECTORY "${CMAKE_BINARY_DIR}/lib"
-  CXX_STANDARD 11 CXX_STANDARD_REQUIRED ON CXX_EXTENSIONS OFF)
+  CXX_STANDARD 17 CXX_STANDARD_REQUIRED ON CXX_EXTENSIONS OFF)
+# C++17: newer LAMMPS headers need it (20220106's take it as they take 11)
+include(${CMAKE_CURRENT_LIST_DIR}/LammpsCompat.cmake)
+silokit_lammps_compat(silokit_lammps)
 if(TARGET lammps)
   # keeps a failed LAMMPS build from hiding behind a plugin that built
   add_dependencies(silokit_lammps lammps)

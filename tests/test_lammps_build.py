@@ -1,9 +1,10 @@
 """cmake/LammpsSource.cmake and cmake/LammpsHost.cmake at configure time
 (configure runs only, in one tree, no compile): a user's LAMMPS tree builds
-only the plugin, a tree without the PLUGIN package and a tarball with
-another sha256 stop with a message, -DSILOKIT_LAMMPS=OFF has no LAMMPS
-targets. The build itself is checked by the other tests/test_lammps_*.py,
-which run its lmp and plugin."""
+only the plugin, the checks of the LAMMPS calls that changed after
+20220106 follow the tree, a tree without the PLUGIN package or with
+unreadable headers and a tarball with another sha256 stop with a message,
+-DSILOKIT_LAMMPS=OFF has no LAMMPS targets. The build itself is checked
+by the other tests/test_lammps_*.py, which run its lmp and plugin."""
 
 import subprocess
 from pathlib import Path
@@ -36,11 +37,52 @@ def configure(tmp_path_factory):
     return run
 
 
-def fake_lammps_tree(path, plugin_header=True):
+# Stand-ins for the headers that cmake/LammpsCompat.cmake compiles against:
+# the declarations our adapters call, as LAMMPS 20220106 (ours) has them
+# and as 4Feb2025 (Debian 13's) has them instead (checked by hand against
+# both trees, doc/lammps_host.md section 7)
+HEADERS_20220106 = {
+    "pair.h": "namespace LAMMPS_NS { class Pair { public:\n"
+              "  virtual ~Pair() = default;\n"
+              "  virtual void transfer_history(double *, double *) {} }; }\n",
+    "neighbor.h": "namespace LAMMPS_NS { class Neighbor { public:\n"
+                  "  int request(void *, int instance = 0); }; }\n",
+    "fix.h": "namespace LAMMPS_NS { class Fix {}; }\n",
+    "modify.h": "namespace LAMMPS_NS { class Modify { public:\n"
+                "  int find_fix_by_style(const char *); }; }\n",
+    "region.h": "namespace LAMMPS_NS { class Region {}; }\n",
+    "domain.h": "namespace LAMMPS_NS { class Domain { public:\n"
+                "  int find_region(const char *); }; }\n",
+}
+HEADERS_4FEB2025 = {
+    "pair.h": "namespace LAMMPS_NS { class Pair { public:\n"
+              "  virtual ~Pair() = default;\n"
+              "  virtual void transfer_history(double *, double *, int, int) {} }; }\n",
+    "neighbor.h": "namespace LAMMPS_NS {\n"
+                  "namespace NeighConst { enum { REQ_SIZE = 1 << 3, REQ_HISTORY = 1 << 4 }; }\n"
+                  "class Pair;\n"
+                  "class Neighbor { public:\n"
+                  "  void add_request(Pair *, int flags = 0); }; }\n",
+    "fix.h": HEADERS_20220106["fix.h"],
+    "modify.h": "#include <string>\n#include <vector>\n"
+                "namespace LAMMPS_NS { class Fix; class Modify { public:\n"
+                "  std::vector<Fix *> get_fix_by_style(const std::string &) const; }; }\n",
+    "region.h": HEADERS_20220106["region.h"],
+    "domain.h": "#include <string>\n"
+                "namespace LAMMPS_NS { class Region; class Domain { public:\n"
+                "  Region *get_region_by_id(const std::string &) const; }; }\n",
+}
+API_CHECKS = ("SILOKIT_LAMMPS_ADD_REQUEST", "SILOKIT_LAMMPS_GET_FIX_BY_STYLE",
+              "SILOKIT_LAMMPS_GET_REGION_BY_ID", "SILOKIT_LAMMPS_HISTORY_TYPES")
+
+
+def fake_lammps_tree(path, plugin_header=True, headers=HEADERS_20220106):
     (path / "src").mkdir(parents=True)
     (path / "src" / "lammps.cpp").write_text("")
     if plugin_header:
         (path / "src" / "lammpsplugin.h").write_text("")
+    for name, text in headers.items():
+        (path / "src" / name).write_text(text)
     return path
 
 
@@ -51,6 +93,31 @@ def test_a_users_tree_builds_the_plugin_only(configure, tmp_path):
     assert f"LAMMPS plugin against {tree}/src (LAMMPS itself not built)" in output
     assert "... silokit_lammps\n" in targets
     assert "... lammps\n" not in targets
+
+
+def test_the_api_checks_follow_the_tree(configure, tmp_path):
+    older = fake_lammps_tree(tmp_path / "lammps-20220106")
+    newer = fake_lammps_tree(tmp_path / "lammps-4Feb2025", headers=HEADERS_4FEB2025)
+    result, output, _ = configure("-DSILOKIT_LAMMPS=ON", f"-DLAMMPS_SOURCE_DIR={older}")
+    assert result.returncode == 0, output
+    for check in API_CHECKS:
+        assert f"Performing Test {check} - Failed" in output
+    # the same build tree, another LAMMPS: the cached results are not reused
+    result, output, _ = configure("-DSILOKIT_LAMMPS=ON", f"-DLAMMPS_SOURCE_DIR={newer}")
+    assert result.returncode == 0, output
+    for check in API_CHECKS:
+        assert f"Performing Test {check} - Success" in output
+    # ... but they are for the same tree
+    result, output, _ = configure("-DSILOKIT_LAMMPS=ON", f"-DLAMMPS_SOURCE_DIR={newer}")
+    assert result.returncode == 0, output
+    assert "Performing Test" not in output
+
+
+def test_unreadable_headers_stop_instead_of_choosing_the_old_api(configure, tmp_path):
+    tree = fake_lammps_tree(tmp_path / "broken", headers={"pair.h": "#error broken header\n"})
+    result, output, _ = configure("-DSILOKIT_LAMMPS=ON", f"-DLAMMPS_SOURCE_DIR={tree}")
+    assert result.returncode != 0
+    assert f"cannot compile against the LAMMPS headers in {tree}/src" in output
 
 
 def test_a_tree_without_the_plugin_package_stops(configure, tmp_path):

@@ -19,6 +19,7 @@
 #include "fix_clog_lammps.h"
 
 #include "fix_reinject_lammps.h"
+#include "lammps_compat.h"
 #include "pair_granular_jiang.h"
 
 #include "atom.h"
@@ -97,10 +98,10 @@ int FixClog::setmask()
 
 void FixClog::init()
 {
-  const int ireinject = modify->find_fix(settings.reinject_id);
-  if (ireinject < 0 || strcmp(modify->fix[ireinject]->style, "reinject") != 0)
+  Fix *named = silokit_lammps::fix_by_id(modify, settings.reinject_id);
+  if (!named || strcmp(named->style, "reinject") != 0)
     error->all(FLERR, "{}: 'reinject' names no fix reinject: '{}'", STYLE, settings.reinject_id);
-  reinject = static_cast<FixReinject *>(modify->fix[ireinject]);
+  reinject = static_cast<FixReinject *>(named);
   scene.frame.vertical = reinject->vertical_axis();
   if (scene.frame.vertical == 0)
     error->all(FLERR, "{}: the outlet plane of fix reinject must be normal to y or z: fix clog "
@@ -114,11 +115,10 @@ void FixClog::init()
   if (!pair)
     error->all(FLERR, "{} needs pair_style granular/jiang, which gives it the contacts", STYLE);
 
-  const int igravity = modify->find_fix_by_style("^gravity");
-  if (igravity < 0) error->all(FLERR, "{} needs fix gravity (for the potential energy)", STYLE);
+  Fix *gravity_fix = silokit_lammps::first_fix_by_style(modify, "^gravity");
+  if (!gravity_fix) error->all(FLERR, "{} needs fix gravity (for the potential energy)", STYLE);
   int dim = 0;
-  const double *acceleration =
-      static_cast<const double *>(modify->fix[igravity]->extract("gvec", dim));
+  const double *acceleration = static_cast<const double *>(gravity_fix->extract("gvec", dim));
   if (!acceleration) error->all(FLERR, "{}: fix gravity gives no vector", STYLE);
   scene.gravity = -acceleration[scene.frame.vertical];
   if (!(scene.gravity > 0.0))

@@ -19,6 +19,7 @@
 ------------------------------------------------------------------------- */
 
 #include "fix_reinject_lammps.h"
+#include "lammps_compat.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -87,10 +88,8 @@ int FixReinject::setmask()
 
 void FixReinject::init()
 {
-  const int iregion = domain->find_region(settings.region_id);
-  if (iregion == -1)
-    error->all(FLERR, "{}: region '{}' does not exist", STYLE, settings.region_id);
-  region = domain->regions[iregion];
+  region = silokit_lammps::region_by_id(domain, settings.region_id);
+  if (!region) error->all(FLERR, "{}: region '{}' does not exist", STYLE, settings.region_id);
   if (!region->bboxflag)
     error->all(FLERR, "{}: the region must have a bounding box (e.g. block, cylinder)", STYLE);
   const std::string problem = silokit::reinject::check_region(*region, settings);

@@ -13,6 +13,7 @@
 
 #include "contact_law.h"
 #include "contact_law_keywords.h"
+#include "lammps_compat.h"
 #include "rolling_law_jiang.h"
 
 #include "atom.h"
@@ -26,7 +27,6 @@
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
-#include "neigh_request.h"
 #include "neighbor.h"
 #include "update.h"
 
@@ -356,9 +356,7 @@ void PairGranularJiang::init_style()
     error->all(FLERR, "pair granular/jiang needs ghost velocities: comm_modify vel yes");
 
   // a granular neighbor list with history
-  const int irequest = neighbor->request(this, instance_me);
-  neighbor->requests[irequest]->size = 1;
-  neighbor->requests[irequest]->history = 1;
+  silokit_lammps::request_size_history_list(neighbor, this, instance_me);
 
   // the first init replaces the placeholder with the fix that keeps the
   // history per pair (across reneighboring, MPI exchange and restarts)
@@ -368,12 +366,11 @@ void PairGranularJiang::init_style()
     fix_history->pair = this;
     fix_dummy = nullptr;
   }
-  const int ifix = modify->find_fix(history_id());
-  if (ifix < 0) error->all(FLERR, "pair granular/jiang: its fix {} is gone", history_id());
-  fix_history = (FixNeighHistory *) modify->fix[ifix];
+  fix_history = (FixNeighHistory *) silokit_lammps::fix_by_id(modify, history_id());
+  if (!fix_history) error->all(FLERR, "pair granular/jiang: its fix {} is gone", history_id());
 
-  const int ifreeze = modify->find_fix_by_style("^freeze");
-  freeze_group_bit = ifreeze < 0 ? 0 : modify->fix[ifreeze]->groupbit;
+  const Fix *freeze = silokit_lammps::first_fix_by_style(modify, "^freeze");
+  freeze_group_bit = freeze ? freeze->groupbit : 0;
 
   // the largest radius per type, of moving and of frozen grains, for the
   // cutoffs; grains that fix pour, deposit or insert/rain2d will insert
@@ -382,10 +379,10 @@ void PairGranularJiang::init_style()
   for (int i = 1; i <= atom->ntypes; i++) {
     onerad_dynamic[i] = onerad_frozen[i] = 0.0;
     for (const char *inserter : inserters) {
-      const int ifix = modify->find_fix_by_style(inserter);
-      if (ifix < 0) continue;
+      Fix *insert = silokit_lammps::first_fix_by_style(modify, inserter);
+      if (!insert) continue;
       int itype = i;    // extract() sets it to 0 (a scalar): call it once
-      const double announced = *((double *) modify->fix[ifix]->extract("radius", itype));
+      const double announced = *((double *) insert->extract("radius", itype));
       onerad_dynamic[i] = MAX(onerad_dynamic[i], announced);
     }
   }
@@ -449,7 +446,7 @@ void PairGranularJiang::read_restart(FILE *fp)
    the stored k_r does not
 ------------------------------------------------------------------------- */
 
-void PairGranularJiang::transfer_history(double *source, double *target)
+void PairGranularJiang::transfer_history(SILOKIT_TRANSFER_HISTORY_PARAMS)
 {
   for (int m = 0; m < HISTORY_STIFFNESS; m++) target[m] = -source[m];
   target[HISTORY_STIFFNESS] = source[HISTORY_STIFFNESS];

@@ -22,6 +22,7 @@
 
 #include "contact_law_keywords.h"
 #include "contact_sample.h"
+#include "lammps_compat.h"
 
 #include <string>
 #include <vector>
@@ -48,7 +49,7 @@ class PairGranularJiang : public Pair {
   void write_restart(FILE *) override;
   void read_restart(FILE *) override;
   double single(int, int, int, int, double, double, double, double &) override;
-  void transfer_history(double *, double *) override;
+  void transfer_history(SILOKIT_TRANSFER_HISTORY_PARAMS) override;    // lammps_compat.h
   double memory_usage() override;
   double atom2cut(int) override;
   double radii2cut(double, double) override;

@@ -5,7 +5,7 @@
    The LAMMPS calls of our adapters that changed after LAMMPS 20220106
    (Debian 12's, the version we build and test), kept here so that a
    user's newer LAMMPS tree (-DLAMMPS_SOURCE_DIR) needs no change anywhere
-   else. cmake/LammpsHost.cmake compiles each newer call against the
+   else. cmake/LammpsCompat.cmake compiles each newer call against the
    tree's headers and defines its macro when it compiles; 20220106 has no
    version macro to test, and the calls changed in different releases:
 
@@ -62,7 +62,8 @@ inline void request_size_history_list(LAMMPS_NS::Neighbor *neighbor, LAMMPS_NS::
 #endif
 }
 
-// the fix with this ID, or nullptr
+// the fix with this ID, or nullptr (find_fix() has not changed: here so
+// that the adapters look fixes up one way)
 inline LAMMPS_NS::Fix *fix_by_id(LAMMPS_NS::Modify *modify, const std::string &id)
 {
   const int ifix = modify->find_fix(id);

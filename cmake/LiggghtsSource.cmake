@@ -14,9 +14,13 @@ set(LIGGGHTS_DEBIAN_TARBALL_SHA256
 #   gcc12           upstream 3.8.0 does not compile with GCC 12 as is
 #   error-one-flush Error::one writes its message to the log too and flushes
 #                   before MPI_Abort, so that an ERROR reaches a file or pipe
+#   triclinic-lamda-box  the fractional box is 1 long, as in LAMMPS (3.8.0 has
+#                   0): a tilted box wraps grains through its periodic sides
+#                   and sets up its ghost exchanges without dividing by zero
 set(LIGGGHTS_PATCHES
     "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-gcc12.patch"
-    "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-error-one-flush.patch")
+    "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-error-one-flush.patch"
+    "${CMAKE_CURRENT_LIST_DIR}/liggghts-3.8.0-triclinic-lamda-box.patch")
 
 set(LIGGGHTS_WORK_DIR "${CMAKE_BINARY_DIR}/liggghts")
 set(LIGGGHTS_BUILD_SRC "${LIGGGHTS_WORK_DIR}/src")

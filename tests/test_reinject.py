@@ -45,12 +45,16 @@ def start_positions():
                      for (x, y, z), (dx, dy, dz) in zip(sites, jitter))
 
 
-def rain_deck(steps=6000, fix_options="", processors="", dump_every=1, tail=""):
+ORTHOGONAL_BOX = "block -0.05 0.05 -0.05 0.05 -0.05 0.3"
+
+
+def rain_deck(steps=6000, fix_options="", processors="", dump_every=1, tail="",
+              box=ORTHOGONAL_BOX):
     xlo, xhi, ylo, yhi, zlo, zhi = REGION
     return f"""
 {granular_setup()}
 {processors}
-region box block -0.05 0.05 -0.05 0.05 -0.05 0.3 units box
+region box {box} units box
 create_box 1 box
 neighbor 0.002 bin
 neigh_modify delay 0
@@ -235,6 +239,37 @@ def test_vertical_slabs_keep_every_grain_and_reinject_as_one_rank(run, tmp_path,
     if slabs == 4:
         top_slab_floor = -0.05 + 3 * (0.3 + 0.05) / 4      # the box spans -0.05 < z < 0.3
         assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
+
+
+# A box leaning in x as it rises (tilt xz = 0.03 over its 0.35 of height),
+# wide enough that the side walls at x = +-0.05 stay inside it at every height
+TILTED_BOX = "prism -0.08 0.08 -0.05 0.05 -0.05 0.3 0 0.03 0"
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
+def test_tilted_box_in_four_slabs_keeps_every_grain_and_reinjects_as_one_rank(
+        run, tmp_path, first_wave):
+    """In a triclinic box, ranks own their sub-domains in fractional
+    coordinates: the fix converts the positions before it sends grains to
+    their ranks and back after (send_to_owners). Without the conversion,
+    the re-entered grains (z > 0.2, fractional z > 0.71) would be sent as if
+    their z were fractional, to the bottom slabs, and lost there. The walls
+    and grains are those of the orthogonal box, so the first wave on 4
+    slabs of the tilted box re-enters the same grains at the same spots, at
+    the same steps, as on one rank of the orthogonal one."""
+    one_dir, one_frames = first_wave
+    run(rain_deck(steps=2100, processors="processors 1 1 4", box=TILTED_BOX), nprocs=4)
+    frames = read_dump(tmp_path / "dump.all")
+    assert len(frames) == len(one_frames)
+    assert all(len(columns["id"]) == N_GRAINS for _, columns in frames)
+    one, many = reentries(one_frames), reentries(frames)
+    assert len(one) == N_GRAINS and len(many) == N_GRAINS
+    for (step1, grain1, c1, k1), (step2, grain2, c2, k2) in zip(one, many):
+        assert (step1, grain1) == (step2, grain2)
+        for axis in "xyz":
+            assert c1[axis][k1] == pytest.approx(c2[axis][k2], abs=1e-12)
+    top_slab_floor = -0.05 + 3 * (0.3 + 0.05) / 4
+    assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
 
 
 def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rain):

@@ -56,8 +56,11 @@ def start_positions():
                      for (x, y, z), (dx, dy, dz) in zip(sites, jitter))
 
 
+ORTHOGONAL_BOX = f"block {-HALF_WIDTH} {HALF_WIDTH} {-HALF_WIDTH} {HALF_WIDTH} -0.05 0.3"
+
+
 def rain_deck(host="lammps", steps=6000, fix_line=FIX_LINE, processors="", dump_every=1,
-              tail=""):
+              tail="", box=ORTHOGONAL_BOX):
     """The rain in `host` (lammps or liggghts): the same grains, contact
     law, region, fix reinject line, thermo and dump."""
     if host == "lammps":
@@ -78,7 +81,7 @@ comm_modify vel yes"""
     return f"""
 {head}
 {processors}
-region box block {-HALF_WIDTH} {HALF_WIDTH} {-HALF_WIDTH} {HALF_WIDTH} -0.05 0.3 units box
+region box {box} units box
 create_box 1 box
 neighbor 0.002 bin
 neigh_modify delay 0
@@ -258,6 +261,43 @@ def test_more_ranks_reinject_the_same_grains_at_the_same_spots(tmp_path, rain, p
     if ranks == 2:
         xs = [c["x"][k] for _, _, c, k in many]
         assert min(xs) < 0 < max(xs)
+
+
+# Boxes twice as wide as the rain's, upright and leaning in x as they rise
+# (tilt xz = 0.02 over the 0.35 of height): the injection region, and the
+# 10 mm around it where a spot is checked for overlaps, stay clear of the
+# periodic sides at every height (the check sees no periodic images)
+WIDE = 2 * HALF_WIDTH
+WIDE_BOX = f"block {-WIDE} {WIDE} {-WIDE} {WIDE} -0.05 0.3"
+TILTED_BOX = f"prism {-WIDE} {WIDE} {-WIDE} {WIDE} -0.05 0.3 0 0.02 0"
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
+def test_a_tilted_box_on_four_stacked_ranks_reinjects_as_one_rank_of_an_upright_one(tmp_path):
+    """In a triclinic box ranks own their sub-domains in fractional
+    coordinates, and the fix finds a moved grain's rank from its fractional
+    position (send_to_owners). The rain in the box leaning in x on 4 ranks
+    stacked in z, and in the upright box on one rank: the same grains
+    re-enter at the same steps and spots (x taken modulo the period: the
+    tilted box wraps x at other places), and none is lost (LAMMPS stops on
+    lost atoms)."""
+    run_lammps(rain_deck(steps=2500, box=WIDE_BOX), tmp_path / "upright")
+    run_lammps(rain_deck(steps=2500, processors="processors 1 1 4", box=TILTED_BOX),
+               tmp_path / "tilted", nprocs=4)
+    one = reentries(read_dump(tmp_path / "upright" / "dump.all"))
+    many = reentries(read_dump(tmp_path / "tilted" / "dump.all"))
+    assert len(one) >= N_GRAINS and len(many) == len(one)
+    period = 2 * WIDE
+    for (step1, grain1, c1, k1), (step2, grain2, c2, k2) in zip(one, many):
+        assert (step1, grain1) == (step2, grain2)
+        shift = c2["x"][k2] - c1["x"][k1]
+        assert shift - period * round(shift / period) == pytest.approx(0.0, abs=1e-12)
+        for axis in "yz":
+            assert c1[axis][k1] == pytest.approx(c2[axis][k2], abs=1e-12)
+    # grains leave from the bottom sub-domain; some re-enter in the top one,
+    # three sub-domains above, which only the fix's own send reaches
+    top_floor = -0.05 + 3 * (0.3 + 0.05) / 4
+    assert sum(c["z"][k] > top_floor for _, _, c, k in many) >= 10
 
 
 # ------------------------------------------------------------ restart

@@ -25,6 +25,7 @@ from analysis.testing import LiggghtsError, liggghts_binary, run_deck
 from lammps_host import has_mpirun, needs_lammps, run_lammps
 from test_reinject import DENSITY, DIAMETER, DT, EXIT, G, RATE_WINDOW, REGION as LIGGGHTS_REGION
 from test_reinject import BAD_INPUT, reentries
+from test_reinject import check_no_spot_overlaps_the_image, image_deck
 
 pytestmark = needs_lammps
 
@@ -298,6 +299,21 @@ def test_a_tilted_box_on_four_stacked_ranks_reinjects_as_one_rank_of_an_upright_
     # three sub-domains above, which only the fix's own send reaches
     top_floor = -0.05 + 3 * (0.3 + 0.05) / 4
     assert sum(c["z"][k] > top_floor for _, _, c, k in many) >= 10
+
+
+def test_a_spot_does_not_overlap_a_grain_across_a_periodic_side(tmp_path):
+    """The spots are checked against the grains' periodic images
+    (test_reinject.py's scene: a held grain whose image reaches into the
+    injection region across the -x side)."""
+    head = """plugin load ${plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p f
+newton off
+comm_modify vel yes"""
+    run_lammps(image_deck(head, LAMMPS_CONTACTS, LAMMPS_DUMP_FORMAT), tmp_path)
+    check_no_spot_overlaps_the_image(read_dump(tmp_path / "dump.all"))
 
 
 # ------------------------------------------------------------ restart

@@ -272,6 +272,79 @@ def test_tilted_box_in_four_slabs_keeps_every_grain_and_reinjects_as_one_rank(
     assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
 
 
+# ---- periodic images -------------------------------------------------------
+# A box periodic in x and y, |x|, |y| < 0.05. A large grain held still
+# (diameter 0.05, not integrated) sits at x = 0.04, against the +x side:
+# its periodic image, 0.1 to the left at x = -0.06, reaches into the
+# injection region, which lies against the -x side. Four small grains fall
+# through the exit again and again; a spot that overlaps the image would
+# put a grain into it (at the next neighbor build it is across the side).
+IMAGE_BOX_HALF = 0.05
+OBSTACLE = (0.04, 0.0, 0.25, 0.05)                 # x, y, z, diameter
+IMAGE_REGION = (-0.05, -0.03, -0.03, 0.03, 0.22, 0.28)
+IMAGE_STEPS = 10000
+
+
+def image_deck(head, contacts, dump_format):
+    """The deck on either host: `head` (units to boundary), `contacts`
+    (pair style and its coefficients), `dump_format` (a dump_modify line)."""
+    x, y, z, diameter = OBSTACLE
+    small = "\n".join(f"create_atoms 1 single {0.01 * k - 0.015!r} {0.012 * k - 0.018!r} "
+                      f"{0.05 + 0.03 * k!r} units box" for k in range(4))
+    xlo, xhi, ylo, yhi, zlo, zhi = IMAGE_REGION
+    return f"""
+{head}
+region box block {-IMAGE_BOX_HALF} {IMAGE_BOX_HALF} {-IMAGE_BOX_HALF} {IMAGE_BOX_HALF} -0.05 0.35 units box
+create_box 1 box
+neighbor 0.002 bin
+neigh_modify delay 0
+{contacts}
+timestep {DT}
+create_atoms 1 single {x} {y} {z} units box
+{small}
+set atom 1 diameter {diameter} density {DENSITY}
+set atom 2*5 diameter {DIAMETER} density {DENSITY}
+group small id 2:5
+region top block {xlo} {xhi} {ylo} {yhi} {zlo} {zhi} units box
+fix gravi small gravity {G} vector 0 0 -1
+fix integr small nve/sphere
+fix out all reinject exit z {EXIT} region top seed 15485863 file exits.txt
+dump d all custom 1 dump.all id x y z vx vy vz radius mass
+{dump_format}
+run {IMAGE_STEPS}
+"""
+
+
+def check_no_spot_overlaps_the_image(frames):
+    """Every re-entry lands clear of the held grain and of its images
+    (nearest image in x and y), and there are enough of them for a spot
+    drawn without regard to the image to have met it."""
+    x0, y0, z0, diameter = OBSTACLE
+    for step, columns in frames:
+        assert len(columns["id"]) == 5, f"a grain is lost at step {step}"
+    events = [event for event in reentries(frames) if event[1] != 1]
+    assert len(events) >= 12
+    period = 2 * IMAGE_BOX_HALF
+    for step, grain, columns, k in events:
+        dx = columns["x"][k] - x0
+        dy = columns["y"][k] - y0
+        dx -= period * round(dx / period)
+        dy -= period * round(dy / period)
+        distance = math.sqrt(dx * dx + dy * dy + (columns["z"][k] - z0) ** 2)
+        assert distance >= (diameter + DIAMETER) / 2, (step, grain, distance)
+
+
+def test_a_spot_does_not_overlap_a_grain_across_a_periodic_side(run, tmp_path):
+    """fix reinject checks the spots against the periodic images of the
+    grains (core/reinject_logic.h, periodic_image_shifts): the held grain's
+    image fills about half of the region's centre positions."""
+    run(image_deck(granular_setup(boundary="p p f"),
+                   hooke_materials(1e4, 2.857e3, gamman=100, gammat=50, mu=0.5) +
+                   "\npair_style gran model hooke/stiffness tangential history\npair_coeff * *",
+                   'dump_modify d format "%d %.15g %.15g %.15g %.15g %.15g %.15g %.15g %.15g"'))
+    check_no_spot_overlaps_the_image(read_dump(tmp_path / "dump.all"))
+
+
 def test_counts_times_and_pending_reentries_survive_a_restart(run, tmp_path, rain):
     """A run restarted at step N, chosen so that grains found below the exit
     at the end of step N re-enter at step N + 1, whose first piece ran on

@@ -117,6 +117,43 @@ inline std::string parse_settings(const std::vector<std::string> &words, bool tw
 struct Sphere { double x[3]; double radius; };
 struct Leaver { int tag; double radius; double mass; bool left_through_exit; };
 struct Box { double lo[3], hi[3]; };
+struct Shift { double d[3]; };
+
+// The shifts from a grain to its nearest periodic images: every sum of
+// -1, 0 or +1 times each periodic edge vector of the box but the zero one.
+// `h` is the host's Domain::h (xprd, yprd, zprd, yz, xz, xy), so the edge
+// vectors are a = (xprd, 0, 0), b = (xy, yprd, 0), c = (xz, yz, zprd), as
+// for a triclinic box (an orthogonal one has the tilts 0). In 2D the third
+// dimension is not a direction grains move in, and gets no images.
+inline std::vector<Shift> periodic_image_shifts(const int *periodicity, const double *h,
+                                                bool two_d)
+{
+  const double edge[3][3] = { { h[0], 0.0, 0.0 }, { h[5], h[1], 0.0 }, { h[4], h[3], h[2] } };
+  int reach[3];
+  for (int k = 0; k < 3; ++k) reach[k] = periodicity[k] && !(two_d && k == 2) ? 1 : 0;
+  std::vector<Shift> shifts;
+  for (int i = -reach[0]; i <= reach[0]; ++i)
+    for (int j = -reach[1]; j <= reach[1]; ++j)
+      for (int l = -reach[2]; l <= reach[2]; ++l) {
+        if (i == 0 && j == 0 && l == 0) continue;
+        Shift shift;
+        for (int k = 0; k < 3; ++k) shift.d[k] = i*edge[0][k] + j*edge[1][k] + l*edge[2][k];
+        shifts.push_back(shift);
+      }
+  return shifts;
+}
+
+// `sphere` and its images (shifted by `shifts`) into `spheres`.
+inline void add_with_images(const Sphere &sphere, const std::vector<Shift> &shifts,
+                            std::vector<Sphere> &spheres)
+{
+  spheres.push_back(sphere);
+  for (const Shift &shift : shifts) {
+    Sphere image = sphere;
+    for (int k = 0; k < 3; ++k) image.x[k] += shift.d[k];
+    spheres.push_back(image);
+  }
+}
 
 inline bool overlaps(const double *centre, double radius, const double *other_centre,
                      double other_radius)
@@ -215,21 +252,27 @@ inline double largest_radius(int nlocal, const double *radius, MPI_Comm world)
   return largest;
 }
 
-// Every grain (of any group, of any rank) whose centre lies within
-// `margin` of `box`: what a re-entering grain must not overlap.
+// Every grain (of any group, of any rank), or periodic image of one
+// (`shifts`, from periodic_image_shifts), whose centre lies within `margin`
+// of `box`: what a re-entering grain must not overlap. A region next to a
+// periodic side has the grains just across the other side as neighbours.
 template <class Tag>
 std::vector<Sphere> gather_spheres_near(const Box &box, double margin, const Grains<Tag> &grains,
-                                        MPI_Comm world)
+                                        const std::vector<Shift> &shifts, MPI_Comm world)
 {
   std::vector<double> local;
   for (int i = 0; i < grains.nlocal; ++i) {
-    const double *x = grains.x[i];
-    bool near = true;
-    for (int k = 0; k < 3 && near; ++k)
-      near = !(x[k] < box.lo[k] - margin || x[k] > box.hi[k] + margin);
-    if (!near) continue;
-    local.insert(local.end(), x, x + 3);
-    local.push_back(grains.radius[i]);
+    // the grain itself (n = -1), then its images
+    for (int n = -1; n < static_cast<int>(shifts.size()); ++n) {
+      double x[3];
+      for (int k = 0; k < 3; ++k) x[k] = grains.x[i][k] + (n < 0 ? 0.0 : shifts[n].d[k]);
+      bool near = true;
+      for (int k = 0; k < 3 && near; ++k)
+        near = !(x[k] < box.lo[k] - margin || x[k] > box.hi[k] + margin);
+      if (!near) continue;
+      local.insert(local.end(), x, x + 3);
+      local.push_back(grains.radius[i]);
+    }
   }
   const std::vector<double> all = allgather(local, world);
   std::vector<Sphere> spheres;
@@ -400,11 +443,13 @@ struct State {
 // counts them and moves those of this rank. `spots` gets each one's spot
 // (tag -> sphere). Returns how many re-entered, or -1 when one found no
 // spot in max_attempts draws (its tag in unplaced_tag): the host stops
-// with an error. Every rank takes part.
+// with an error. `shifts` (periodic_image_shifts) are the box's periodic
+// images, which a spot must not overlap either. Every rank takes part.
 template <class Tag, class LeftThroughExit, class Uniform, class Inside>
 int reenter(State &state, const Grains<Tag> &grains, LeftThroughExit left_through_exit,
-            const Box &region_box, bool two_d, int max_attempts, Uniform &uniform,
-            Inside &inside, MPI_Comm world, std::map<int, Sphere> &spots, int &unplaced_tag)
+            const Box &region_box, bool two_d, const std::vector<Shift> &shifts,
+            int max_attempts, Uniform &uniform, Inside &inside, MPI_Comm world,
+            std::map<int, Sphere> &spots, int &unplaced_tag)
 {
   const std::set<int> &requested = state.requested;
   auto was_requested = [&](int i) {
@@ -416,7 +461,8 @@ int reenter(State &state, const Grains<Tag> &grains, LeftThroughExit left_throug
   if (leavers.empty()) return 0;
 
   const double largest = largest_radius(grains.nlocal, grains.radius, world);
-  std::vector<Sphere> occupied = gather_spheres_near(region_box, 2.0*largest, grains, world);
+  std::vector<Sphere> occupied = gather_spheres_near(region_box, 2.0*largest, grains, shifts,
+                                                     world);
   for (std::size_t n = 0; n < leavers.size(); ++n) {
     Sphere placed;
     placed.radius = leavers[n].radius;
@@ -425,7 +471,7 @@ int reenter(State &state, const Grains<Tag> &grains, LeftThroughExit left_throug
       unplaced_tag = leavers[n].tag;
       return -1;
     }
-    occupied.push_back(placed);
+    add_with_images(placed, shifts, occupied);
     spots[leavers[n].tag] = placed;
     state.counts.add(leavers[n]);
   }

@@ -170,7 +170,10 @@ void FixReinject::pre_exchange()
   auto left_through_exit = [this](int i) { return is_leaver(i); };
   const int reentered = silokit::reinject::reenter(
       state, grains, left_through_exit, silokit::reinject::bounding_box(*region),
-      domain->dimension == 2, settings.max_attempts, uniform, inside, world, spots, unplaced);
+      domain->dimension == 2,
+      silokit::reinject::periodic_image_shifts(domain->periodicity, domain->h,
+                                               domain->dimension == 2),
+      settings.max_attempts, uniform, inside, world, spots, unplaced);
   if (reentered < 0)
     error->all(FLERR, "{}: no free spot in region '{}' for grain {} after {} attempts: enlarge "
                "the region or raise 'maxattempt'", STYLE, settings.region_id, unplaced,

@@ -57,6 +57,14 @@ def start_positions():
                      for (x, y, z), (dx, dy, dz) in zip(sites, jitter))
 
 
+# the deck's first lines in LAMMPS (granular_setup's in LIGGGHTS)
+LAMMPS_HEAD = """plugin load ${plugin}
+units si
+atom_style sphere
+atom_modify map array
+boundary p p f
+newton off
+comm_modify vel yes"""
 ORTHOGONAL_BOX = f"block {-HALF_WIDTH} {HALF_WIDTH} {-HALF_WIDTH} {HALF_WIDTH} -0.05 0.3"
 
 
@@ -65,13 +73,7 @@ def rain_deck(host="lammps", steps=6000, fix_line=FIX_LINE, processors="", dump_
     """The rain in `host` (lammps or liggghts): the same grains, contact
     law, region, fix reinject line, thermo and dump."""
     if host == "lammps":
-        head = """plugin load ${plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton off
-comm_modify vel yes"""
+        head = LAMMPS_HEAD
         contacts = LAMMPS_CONTACTS
         dump_format = LAMMPS_DUMP_FORMAT
     else:
@@ -305,14 +307,7 @@ def test_a_spot_does_not_overlap_a_grain_across_a_periodic_side(tmp_path):
     """The spots are checked against the grains' periodic images
     (test_reinject.py's scene: a held grain whose image reaches into the
     injection region across the -x side)."""
-    head = """plugin load ${plugin}
-units si
-atom_style sphere
-atom_modify map array
-boundary p p f
-newton off
-comm_modify vel yes"""
-    run_lammps(image_deck(head, LAMMPS_CONTACTS, LAMMPS_DUMP_FORMAT), tmp_path)
+    run_lammps(image_deck(LAMMPS_HEAD, LAMMPS_CONTACTS, LAMMPS_DUMP_FORMAT), tmp_path)
     check_no_spot_overlaps_the_image(read_dump(tmp_path / "dump.all"))
 
 

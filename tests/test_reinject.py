@@ -211,10 +211,16 @@ def first_wave(tmp_path_factory, liggghts_binary):
     return workdir, read_dump(workdir / "dump.all")
 
 
+# A box leaning in x as it rises (tilt xz = 0.03 over its 0.35 of height),
+# wide enough that the side walls at x = +-0.05 stay inside it at every height
+TILTED_BOX = "prism -0.08 0.08 -0.05 0.05 -0.05 0.3 0 0.03 0"
+
+
 @pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
-@pytest.mark.parametrize("slabs", [2, 4])
+@pytest.mark.parametrize("slabs, box", [(2, ORTHOGONAL_BOX), (4, ORTHOGONAL_BOX),
+                                        (4, TILTED_BOX)], ids=["2", "4", "4-tilted"])
 def test_vertical_slabs_keep_every_grain_and_reinject_as_one_rank(run, tmp_path, first_wave,
-                                                                  slabs):
+                                                                  slabs, box):
     """The box cut into 2 or 4 slabs along the vertical (`processors 1 1 N`
     on N ranks). Every grain leaves from the bottom slab (z < 0.0375 with 4
     slabs) and re-enters in the top slab or, with 4, also in the third
@@ -222,9 +228,16 @@ def test_vertical_slabs_keep_every_grain_and_reinject_as_one_rank(run, tmp_path,
     the neighbouring ranks only, so the fix sends those grains to their rank
     itself (before, 169 of the 196 grains were left with 4 slabs, silently).
     Every grain stays in every frame, and the record and the re-entries
-    (steps, grains, spots) are those of one rank."""
+    (steps, grains, spots) are those of one rank of the upright box.
+
+    In the tilted box ranks own their sub-domains in fractional
+    coordinates, and the fix converts the positions for the send and back
+    (send_to_owners); without that, the re-entered grains (z > 0.2,
+    fractional z > 0.71) are sent as if their z were fractional, to the
+    bottom slabs, and lost there. Its walls and grains are those of the
+    upright box."""
     one_dir, one_frames = first_wave
-    run(rain_deck(steps=2100, processors=f"processors 1 1 {slabs}"), nprocs=slabs)
+    run(rain_deck(steps=2100, processors=f"processors 1 1 {slabs}", box=box), nprocs=slabs)
     frames = read_dump(tmp_path / "dump.all")
     assert len(frames) == len(one_frames)
     assert all(len(columns["id"]) == N_GRAINS for _, columns in frames)
@@ -239,37 +252,6 @@ def test_vertical_slabs_keep_every_grain_and_reinject_as_one_rank(run, tmp_path,
     if slabs == 4:
         top_slab_floor = -0.05 + 3 * (0.3 + 0.05) / 4      # the box spans -0.05 < z < 0.3
         assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
-
-
-# A box leaning in x as it rises (tilt xz = 0.03 over its 0.35 of height),
-# wide enough that the side walls at x = +-0.05 stay inside it at every height
-TILTED_BOX = "prism -0.08 0.08 -0.05 0.05 -0.05 0.3 0 0.03 0"
-
-
-@pytest.mark.skipif(not has_mpirun(), reason="mpirun not available")
-def test_tilted_box_in_four_slabs_keeps_every_grain_and_reinjects_as_one_rank(
-        run, tmp_path, first_wave):
-    """In a triclinic box, ranks own their sub-domains in fractional
-    coordinates: the fix converts the positions before it sends grains to
-    their ranks and back after (send_to_owners). Without the conversion,
-    the re-entered grains (z > 0.2, fractional z > 0.71) would be sent as if
-    their z were fractional, to the bottom slabs, and lost there. The walls
-    and grains are those of the orthogonal box, so the first wave on 4
-    slabs of the tilted box re-enters the same grains at the same spots, at
-    the same steps, as on one rank of the orthogonal one."""
-    one_dir, one_frames = first_wave
-    run(rain_deck(steps=2100, processors="processors 1 1 4", box=TILTED_BOX), nprocs=4)
-    frames = read_dump(tmp_path / "dump.all")
-    assert len(frames) == len(one_frames)
-    assert all(len(columns["id"]) == N_GRAINS for _, columns in frames)
-    one, many = reentries(one_frames), reentries(frames)
-    assert len(one) == N_GRAINS and len(many) == N_GRAINS
-    for (step1, grain1, c1, k1), (step2, grain2, c2, k2) in zip(one, many):
-        assert (step1, grain1) == (step2, grain2)
-        for axis in "xyz":
-            assert c1[axis][k1] == pytest.approx(c2[axis][k2], abs=1e-12)
-    top_slab_floor = -0.05 + 3 * (0.3 + 0.05) / 4
-    assert sum(c["z"][k] < top_slab_floor for _, _, c, k in many) >= 10
 
 
 # ---- periodic images -------------------------------------------------------

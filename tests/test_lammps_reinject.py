@@ -267,9 +267,9 @@ def test_more_ranks_reinject_the_same_grains_at_the_same_spots(tmp_path, rain, p
 
 
 # Boxes twice as wide as the rain's, upright and leaning in x as they rise
-# (tilt xz = 0.02 over the 0.35 of height): the injection region, and the
-# 10 mm around it where a spot is checked for overlaps, stay clear of the
-# periodic sides at every height (the check sees no periodic images)
+# (tilt xz = 0.02 over the 0.35 of height): wide enough that every site of
+# the start lattice lies inside the tilted box (in the rain's own width,
+# create_atoms leaves out the 10 of the 48 sites that the tilt puts outside)
 WIDE = 2 * HALF_WIDTH
 WIDE_BOX = f"block {-WIDE} {WIDE} {-WIDE} {WIDE} -0.05 0.3"
 TILTED_BOX = f"prism {-WIDE} {WIDE} {-WIDE} {WIDE} -0.05 0.3 0 0.02 0"

@@ -18,6 +18,7 @@
 #define SILOKIT_REINJECT_LOGIC_H
 
 #include "fix_common.h"
+#include "periodic_images.h"
 #include "silokit_mpi.h"
 #include "silokit_record.h"
 
@@ -117,31 +118,6 @@ inline std::string parse_settings(const std::vector<std::string> &words, bool tw
 struct Sphere { double x[3]; double radius; };
 struct Leaver { int tag; double radius; double mass; bool left_through_exit; };
 struct Box { double lo[3], hi[3]; };
-struct Shift { double d[3]; };
-
-// The shifts from a grain to its nearest periodic images: every sum of
-// -1, 0 or +1 times each periodic edge vector of the box but the zero one.
-// `h` is the host's Domain::h (xprd, yprd, zprd, yz, xz, xy), so the edge
-// vectors are a = (xprd, 0, 0), b = (xy, yprd, 0), c = (xz, yz, zprd), as
-// for a triclinic box (an orthogonal one has the tilts 0). In 2D the third
-// dimension is not a direction grains move in, and gets no images.
-inline std::vector<Shift> periodic_image_shifts(const int *periodicity, const double *h,
-                                                bool two_d)
-{
-  const double edge[3][3] = { { h[0], 0.0, 0.0 }, { h[5], h[1], 0.0 }, { h[4], h[3], h[2] } };
-  int reach[3];
-  for (int k = 0; k < 3; ++k) reach[k] = periodicity[k] && !(two_d && k == 2) ? 1 : 0;
-  std::vector<Shift> shifts;
-  for (int i = -reach[0]; i <= reach[0]; ++i)
-    for (int j = -reach[1]; j <= reach[1]; ++j)
-      for (int l = -reach[2]; l <= reach[2]; ++l) {
-        if (i == 0 && j == 0 && l == 0) continue;
-        Shift shift;
-        for (int k = 0; k < 3; ++k) shift.d[k] = i*edge[0][k] + j*edge[1][k] + l*edge[2][k];
-        shifts.push_back(shift);
-      }
-  return shifts;
-}
 
 // `sphere` and its images (shifted by `shifts`) into `spheres`.
 inline void add_with_images(const Sphere &sphere, const std::vector<Shift> &shifts,
@@ -253,7 +229,7 @@ inline double largest_radius(int nlocal, const double *radius, MPI_Comm world)
 }
 
 // Every grain (of any group, of any rank), or periodic image of one
-// (`shifts`, from periodic_image_shifts), whose centre lies within `margin`
+// (`shifts`, from periodic_image_shifts in periodic_images.h), whose centre lies within `margin`
 // of `box`: what a re-entering grain must not overlap. A region next to a
 // periodic side has the grains just across the other side as neighbours.
 template <class Tag>

@@ -183,8 +183,7 @@ void FixReinject::pre_exchange()
   const int reentered = silokit::reinject::reenter(
     state, grains, left_through_exit, silokit::reinject::bounding_box(*region),
     domain->dimension == 2,
-    silokit::reinject::periodic_image_shifts(domain->periodicity, domain->h,
-                                             domain->dimension == 2),
+    silokit::periodic_image_shifts(domain->periodicity, domain->h, domain->dimension == 2),
     settings.max_attempts, uniform, inside, world, spots, unplaced);
   if (reentered < 0) {
     const std::string message = "no free spot in region '" + settings.region_id + "' for grain " +

@@ -20,7 +20,8 @@ from analysis.common.lammps_io import read_dump, thermo_rows
 from analysis.testing import LiggghtsError, liggghts_binary, run_deck
 from lammps_host import has_mpirun, needs_lammps, run_lammps
 from test_rain2d import BAD_INPUT, D, DT, GOOD, LINE, PER_ROW, POLY, RHO, SEED
-from test_rain2d import SUBSTRATE, check_landing_loses_energy, check_release_schedule
+from test_rain2d import SUBSTRATE, check_image_blocker, check_landing_loses_energy
+from test_rain2d import check_release_schedule, image_blocker_deck
 from test_rain2d import first_appearances, rain_deck as liggghts_rain_deck, tables_by_run
 
 pytestmark = needs_lammps
@@ -30,12 +31,13 @@ DUMP_FORMAT = " ".join(["%d", "%d"] + ["%.17g"] * 7)
 
 
 def rain_deck(steps, fix_options="", processors="", dump_every=1, substrate="", tail="",
-              box="-6 6 0 12 -0.5 0.5", dimension=2, fix_line=None):
+              box="-6 6 0 12 -0.5 0.5", dimension=2, fix_line=None, line=LINE,
+              boundary="f f p"):
     """test_rain2d.py's deck in LAMMPS: the same box, grains, contact law
     (pair granular/jiang with LIGGGHTS' hooke/stiffness), thermo and dump;
     discs need `nve/sphere disc` here (LIGGGHTS takes a disc's inertia by
     itself in 2D)."""
-    x_lo, x_hi, y = LINE
+    x_lo, x_hi, y = line
     if fix_line is None:
         fix_line = (f"fix rain grains insert/rain2d seed {SEED} type 1 diameter {D} "
                     f"polydispersity {POLY} density {RHO!r} line {x_lo} {x_hi} {y} {fix_options}")
@@ -45,7 +47,7 @@ units si
 dimension {dimension}
 atom_style sphere
 atom_modify map array
-boundary f f p
+boundary {boundary}
 newton off
 comm_modify vel yes
 {processors}
@@ -274,6 +276,14 @@ def test_a_row_never_overlaps_a_grain_already_there(tmp_path):
     assert final[:4] == [1, 0, 0, 4]       # atoms, inserted, rows, reason
     assert "the pile has reached the release line" in run.output
     assert "release stopped at step 1" in run.output
+
+
+@pytest.mark.parametrize("boundary", ["p f p", "f f p"])
+def test_a_row_never_overlaps_the_periodic_image_of_a_grain(tmp_path, boundary):
+    """test_rain2d.py's scene: a held grain across the periodic x side
+    from the row, whose image would overlap it."""
+    check_image_blocker(boundary, run_lammps(image_blocker_deck(boundary, rain_deck),
+                                             tmp_path).output)
 
 
 def test_a_row_resting_on_the_pile_stops_the_release(tmp_path):

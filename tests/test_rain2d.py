@@ -32,10 +32,11 @@ SEED = 15485863
 
 
 def rain_deck(steps, fix_options="", processors="", dump_every=1, substrate="",
-              dimension=2, box="-6 6 0 12 -0.5 0.5", extra="", tail="", thermo_every=1):
-    x_lo, x_hi, y = LINE
+              dimension=2, box="-6 6 0 12 -0.5 0.5", extra="", tail="", thermo_every=1,
+              line=LINE, boundary="f f p"):
+    x_lo, x_hi, y = line
     return f"""
-{granular_setup(dimension=dimension, boundary="f f p")}
+{granular_setup(dimension=dimension, boundary=boundary)}
 {processors}
 region box block {box} units box
 create_box 2 box
@@ -236,6 +237,46 @@ def test_a_pile_at_the_line_stops_the_release(run):
     thermo = thermo_rows(output, 7)
     assert thermo[max(thermo)][3] == 4
     assert "the pile has reached the release line" in output
+
+
+# A row on the line's left end, x in [-6, -4] (one grain, its centre in
+# [-5.475, -4.525]), and a held 2.2 d grain at x = 5.99 on the line's
+# height: far from the row itself, but across the periodic x side its image
+# at x = -6.01 reaches to -4.91, so it overlaps the row's grain wherever the
+# gaps put it (centre distance < 1.1 + 0.475 for a centre below -4.435).
+IMAGE_LINE = (-6.0, -4.0, 10.0)
+IMAGE_BLOCKER = "create_atoms 2 single 5.99 10.0 0 units box\nset type 2 diameter 2.2 density 1.0"
+
+
+def image_blocker_deck(boundary, deck=None, processors=""):
+    deck = deck or rain_deck
+    return deck(200, dump_every=100000, substrate=IMAGE_BLOCKER, line=IMAGE_LINE,
+                boundary=boundary, processors=processors)
+
+
+def check_image_blocker(boundary, output):
+    """In a box periodic in x the release stops at once, no grain created
+    (reason 4: the pile has reached the line); with f sides the image does
+    not exist and the first row is created and falls (the control)."""
+    final = thermo_rows(output, 7)[200]
+    if boundary.startswith("p"):
+        assert final[:4] == [1, 0, 0, 4]       # atoms, inserted, rows, reason
+        assert "release stopped at step 1" in output
+    else:
+        assert final[:4] == [2, 1, 1, 0]
+
+
+@pytest.mark.parametrize("boundary", ["p f p", "f f p"])
+def test_a_row_never_overlaps_the_periodic_image_of_a_grain(run, boundary):
+    check_image_blocker(boundary, run(image_blocker_deck(boundary)))
+
+
+@pytest.mark.skipif(not has_mpirun(), reason="needs mpirun")
+def test_two_ranks_see_the_image_of_a_grain_on_the_other_rank(run):
+    """The row on rank 0 (x < 0), the held grain on rank 1: the image comes
+    from the other rank's gathering."""
+    deck = image_blocker_deck("p f p", processors="processors 2 1 1")
+    check_image_blocker("p f p", run(deck, nprocs=2))
 
 
 # a substrate of touching 0.1 d discs with its top at y = 1, in fix freeze

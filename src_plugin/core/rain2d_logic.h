@@ -8,17 +8,19 @@
    keywords, the schedule (when the last row has fallen, is blocked, when a
    row is due), the stop rules (stationarity, limits), drawing a row
    (diameters from the polydispersity, gaps from rain_row.h, tags), the
-   overlap check against grains already there, the outputs and the restart
-   data. The hosts hand in their per-atom arrays, their random generator
-   (a callable returning uniform numbers in (0, 1); every rank calls it the
-   same number of times in the same order) and the group count, create the
-   grains, and raise the errors whose text this file words.
+   overlap check against grains already there and their periodic images
+   (periodic_images.h), the outputs and the restart data. The hosts hand
+   in their per-atom arrays, their random generator (a callable returning
+   uniform numbers in (0, 1); every rank calls it the same number of times
+   in the same order) and the group count, create the grains, and raise
+   the errors whose text this file words.
 ------------------------------------------------------------------------- */
 
 #ifndef SILOKIT_RAIN2D_LOGIC_H
 #define SILOKIT_RAIN2D_LOGIC_H
 
 #include "fix_common.h"
+#include "periodic_images.h"
 #include "rain_row.h"
 #include "silokit_mpi.h"
 
@@ -285,11 +287,13 @@ class Rain {
 
   /* in the host's pre_exchange: on the step of the pending release, the
      stop rules, then the next row, drawn (the same on every rank) and
-     checked against the grains already there. present() is the host's
-     count of the fix group (collective), uniform() its generator. */
+     checked against the grains already there and their periodic images
+     (`shifts`, periodic_image_shifts). present() is the host's count of
+     the fix group (collective), uniform() its generator. */
   template <class Present, class Tag, class Uniform>
   Release release(long long step, Present present, int nlocal, const Tag *tag, double **x,
-                  const double *radius, Uniform uniform, MPI_Comm world)
+                  const double *radius, const std::vector<Shift> &shifts, Uniform uniform,
+                  MPI_Comm world)
   {
     Release result;
     if (release_step != step) return result;
@@ -308,7 +312,7 @@ class Rain {
     result.row = draw_row(largest, uniform);
     if (result.row.empty()) {
       result.outcome = Release::does_not_fit;
-    } else if (row_overlaps_grains(result.row, nlocal, x, radius, world)) {
+    } else if (row_overlaps_grains(result.row, nlocal, x, radius, shifts, world)) {
       result.outcome = Release::stopped;
       result.reason = line_blocked;
       result.row.clear();
@@ -390,18 +394,30 @@ class Rain {
   }
 
   /* whether a grain of the row would overlap a grain already there (any
-     group): only grains whose centre is within a largest diameter of the
-     line can, and those are gathered on every rank */
+     group) or a periodic image of one (`shifts`): in a box periodic in x
+     a row that reaches one side has the grains just across the other side
+     as neighbours. Only grains or images whose centre is within a largest
+     diameter of the line can overlap, and those are gathered on every
+     rank. */
   bool row_overlaps_grains(const std::vector<Disc> &row, int nlocal, double **x,
-                           const double *radius, MPI_Comm world) const
+                           const double *radius, const std::vector<Shift> &shifts,
+                           MPI_Comm world) const
   {
     const double reach = settings.largest_diameter();
     std::vector<double> local;
     for (int i = 0; i < nlocal; ++i) {
-      if (std::fabs(x[i][1] - settings.line_height) > reach + radius[i]) continue;
-      local.push_back(x[i][0]);
-      local.push_back(x[i][1]);
-      local.push_back(radius[i]);
+      // the grain itself (n = -1), then its images
+      for (int n = -1; n < static_cast<int>(shifts.size()); ++n) {
+        const double centre_x = x[i][0] + (n < 0 ? 0.0 : shifts[n].d[0]);
+        const double centre_y = x[i][1] + (n < 0 ? 0.0 : shifts[n].d[1]);
+        const double margin = reach + radius[i];
+        if (std::fabs(centre_y - settings.line_height) > margin ||
+            centre_x < settings.line_lo - margin || centre_x > settings.line_hi + margin)
+          continue;
+        local.push_back(centre_x);
+        local.push_back(centre_y);
+        local.push_back(radius[i]);
+      }
     }
     const std::vector<double> near = allgather(local, world);
     for (std::size_t k = 0; k + 2 < near.size(); k += 3)

@@ -138,7 +138,9 @@ void FixInsertRain2d::pre_exchange()
 {
   const silokit::rain2d::Release release = rain->release(
       update->ntimestep, [this]() { return grains_present(); }, atom->nlocal, atom->tag, atom->x,
-      atom->radius, [this]() { return random->uniform(); }, world);
+      atom->radius,
+      silokit::periodic_image_shifts(domain->periodicity, domain->h, domain->dimension == 2),
+      [this]() { return random->uniform(); }, world);
   if (release.outcome == silokit::rain2d::Release::does_not_fit)
     error->all(FLERR, "{}: the grains of a row do not fit on the line: lower 'fill'", STYLE);
   if (release.outcome == silokit::rain2d::Release::stopped) stop(release.reason, release.present);

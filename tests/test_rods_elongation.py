@@ -3,7 +3,8 @@ a stage settles its packing with checkpoints and runs its two frequencies;
 `keep` archives the finished runs (their orifice tables, no maps, from the
 stage's analysis: no dump is read twice) and carries the packing; the next
 machine takes the packing from carry/ (not settled again) and skips the
-archived runs, which it does not analyse again."""
+archived runs, which it does not analyse again. Stage 8 runs spheres,
+settled without checkpoints, into their own store, with orifice series."""
 
 import os
 import subprocess
@@ -52,5 +53,25 @@ def test_a_stage_settles_runs_keeps_and_the_next_machine_goes_on_from_the_carrie
     assert "archived in" in log and "not analysed again" in log
 
     wrong, log = driver("run", tmp_path / "machine3", stores, STAGES="1 9")
-    assert wrong.returncode == 2 and "STAGES: no stage '9' (1-7)" in log
+    assert wrong.returncode == 2 and "STAGES: no stage '9' (1-8)" in log
     assert not (tmp_path / "machine3").exists()
+
+
+def test_the_spheres_stage_runs_three_packings_into_its_own_store(tmp_path):
+    stores = tmp_path / "data"
+    quick = "0 0.03 0.01  0.32 0.12 0.02  1.28 0.03 0.01"   # 0.32 Hz: dump frames at 0.05 and 0.1 s
+    ran, log = driver("run", tmp_path / "machine1", stores, STAGES="8", SPHERES_PROTOCOL=quick)
+    assert ran.returncode == 0, log
+    assert "stage 8: L/d = spheres, seeds 32452843 15485863 49979687, f = 0 0.32 1.28 Hz" in log
+    runs = tmp_path / "machine1" / "spheres"
+    for seed in (32452843, 15485863, 49979687):
+        info = read_run_info(runs / f"packing_s{seed}")
+        assert info["shape"] == "sphere" and info["aspect"] == 3.3     # the deck's default, as the bench's
+        assert not list((runs / f"packing_s{seed}").glob("settle_checkpoint*"))   # settled in one run
+        for f in ("0", "0.32", "1.28"):
+            assert (runs / f"D0.06_f{f}_s{seed}" / "finished").exists(), log
+    kept, log = driver("keep", tmp_path / "machine1", stores, STAGES="8", SPHERES_PROTOCOL=quick)
+    assert kept.returncode == 0, log
+    series = stores / "silo3d_rods_elongation_spheres" / "D0.06_f0.32_s15485863" / "orifice_timeseries.md"
+    header = series.read_text().splitlines()[2]
+    assert "| phi |" in header and "| v_z |" in header and "O_zz" not in header

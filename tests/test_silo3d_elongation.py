@@ -167,7 +167,7 @@ def data_with_a_store(tmp_path):
     its runs (run.txt's aspect made 4.0). The campaign's own stores are
     left out: the test sees the same store whatever the campaign has
     archived, and never writes into doc/data through a link."""
-    campaign_stores = {elongation.store(aspect) for aspect in elongation.ASPECTS[1:]}
+    campaign_stores = {elongation.store(aspect) for aspect in elongation.ASPECTS[1:]} | {elongation.SPHERES_STORE}
     for entry in DATA_DIR.iterdir():
         if entry.name not in campaign_stores:
             (tmp_path / entry.name).symlink_to(entry)
@@ -269,6 +269,49 @@ def test_a_run_txt_that_does_not_match_its_place_in_the_store_is_an_error(data_w
     (run / "run.txt").write_text((run / "run.txt").read_text().replace("\naspect 4.0\n", "\naspect 3.3\n"))
     with pytest.raises(ValueError, match="aspect"):
         elongation.rod_point(data_with_a_store, 4.0, "a")
+
+
+def write_orifice_series(run_dir, times, columns):
+    """A hand-built orifice_timeseries.md: one row per time, the columns given."""
+    names = ["t", *columns]
+    rows = ["| " + " | ".join(names) + " |", "|" + "---|" * len(names)]
+    rows += ["| " + " | ".join(f"{v:.6g}" for v in (t, *(columns[n][k] for n in columns))) + " |"
+             for k, t in enumerate(times)]
+    (run_dir / "orifice_timeseries.md").write_text("test: orifice-region averages per frame\n\n" +
+                                                    "\n".join(rows) + "\n")
+
+
+def test_the_spheres_orifice_averages_come_from_stage_8s_runs(data_with_a_store):
+    """Stage 8's store (the bench's sphere runs again, with dumps), laid
+    out by hand: two packings' runs at 0.32 Hz, their records the bench's,
+    each with a series of constant phi and v_z every 0.05 s over 0.5-2 s
+    (no O_zz: spheres). The point is the mean of the two constants, its
+    error their spread over sqrt(2); a series that starts after the
+    window's start is left out; O_zz stays empty."""
+    data = data_with_a_store
+    constants = {PACKINGS["1st"]: (0.40, -0.31), PACKINGS["2nd"]: (0.42, -0.33)}
+    times = np.arange(0.5, 2.0001, 0.05)
+    for seed, (phi, v_z) in constants.items():
+        run = data / elongation.SPHERES_STORE / f"D0.06_f0.32_s{seed}"
+        shutil.copytree(DATA_DIR / SPHERES[60, 0.32, seed], run)
+        write_orifice_series(run, times, {"phi": [phi] * times.size, "v_z": [v_z] * times.size})
+    late = data / elongation.SPHERES_STORE / f"D0.06_f0_s{PACKINGS['1st']}"
+    shutil.copytree(DATA_DIR / SPHERES[60, 0.0, PACKINGS["1st"]], late)
+    write_orifice_series(late, times[10:], {"phi": [0.5] * (times.size - 10), "v_z": [-0.3] * (times.size - 10)})
+    points = {p.f: p for p in elongation.orifice_points(data) if p.aspect == 1.0}
+    at_032 = points[0.32]
+    assert at_032.n == 2 and at_032.planned == 3 and at_032.window == (0.5, 2)
+    assert at_032.values["phi"] == pytest.approx((0.41, 0.01))
+    assert at_032.values["v_z"] == pytest.approx((-0.32, 0.01))
+    assert "O_zz" not in at_032.values
+    assert points[0.0].n == 0 and points[0.0].note.startswith("under way")
+    table = elongation.data_table(data)
+    assert "| 1 (spheres) | 0.32 | 0.5–2 s | 2 of 3 | 0.410 ± 0.010 | -0.320 ± 0.010 | — |  |" in table
+    # a run.txt that says rods is an error, as in the rods' stores
+    info = late / "run.txt"
+    info.write_text(info.read_text().replace("\nshape sphere\n", "\nshape rod\n"))
+    with pytest.raises(ValueError, match="shape"):
+        elongation.orifice_points(data)
 
 
 def test_the_committed_table_and_page_block_agree_with_the_records():

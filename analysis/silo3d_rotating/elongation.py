@@ -48,8 +48,11 @@ archived series do not all cover 2-4 s:
   the 8 s run's to round-off (tests/test_silo3d_elongation.py checks
   this).
 - The third packing clogs at rest, so it has no average.
-- The spheres' runs at 60 mm archived neither dumps nor an orifice
-  series, so there is no average for them, and spheres have no O_zz.
+- The spheres' runs of the cross-host bench kept neither dumps nor an
+  orifice series. The campaign's stage 8 runs them again (the same deck,
+  seeds and settling) with dumps, into SPHERES_STORE; their averages are
+  over the spheres' 0.5-2 s, from the three packings. Spheres have no
+  O_zz.
 A series that does not cover the window (to within 1.5 frame spacings
 at each end) is left out.
 
@@ -91,6 +94,7 @@ WINDOWS = {"a": (EARLY, LATE), "b": (EARLY,)}
 LATE_FREQUENCIES = (0.0, F_MIN)            # the runs that last 8 s
 RUN_WINDOWS = ((EARLY, FREQUENCIES), (LATE, LATE_FREQUENCIES))   # each window and the runs read over it
 SPHERES_WINDOW = (0.5, 2)                  # the spheres' 2 s runs
+SPHERES_STORE = "silo3d_rods_elongation_spheres"   # stage 8: the spheres' runs with orifice series
 ORIFICE_QUANTITIES = {"phi": "⟨φ⟩", "v_z": "⟨v_z⟩ (m/s)", "O_zz": "⟨O_zz⟩"}
 PANELS = {"a": (F_MIN, 0.0), "b": (F_FAST, F_MIN)}   # Fig. 3's panels: (f, f_ref) of Q(f)/Q(f_ref)
 
@@ -133,18 +137,32 @@ def campaign_runs(data_dir, aspect):
     """{(packing, f): directory under data_dir} for the runs the store of
     `aspect` holds (those with a discharge.txt). A run.txt that does not
     match the run's place in the store is an error."""
+    return stored_runs(data_dir, store(aspect), CAMPAIGN_PACKINGS, {"shape": "rod", "aspect": aspect})
+
+
+def stored_runs(data_dir, store_name, packings, grains):
+    """{(packing, f): directory under data_dir} for the runs of a store
+    (those with a discharge.txt), each run.txt checked against the run's
+    place in the store and the store's `grains` (run.txt values)."""
     runs = {}
-    for packing in CAMPAIGN_PACKINGS:
+    for packing in packings:
         for f in FREQUENCIES:
-            name = f"{store(aspect)}/D0.06_f{f:g}_s{PACKINGS[packing]}"
+            name = f"{store_name}/D0.06_f{f:g}_s{PACKINGS[packing]}"
             if (data_dir / name / "discharge.txt").exists():
-                info = read_run_info(data_dir / name, required=("aspect", "D", "f", "seed"))
-                wanted = {"aspect": aspect, "D": D_MM / 1000, "f": f, "seed": PACKINGS[packing]}
-                wrong = {key: info[key] for key, value in wanted.items() if key_value(info[key]) != key_value(value)}
+                wanted = {**grains, "D": D_MM / 1000, "f": f, "seed": PACKINGS[packing]}
+                info = read_run_info(data_dir / name, required=tuple(wanted))
+                wrong = {key: info[key] for key, value in wanted.items() if not same_value(info[key], value)}
                 if wrong:
                     raise ValueError(f"{data_dir / name}/run.txt: {wrong}, but the store's layout says {wanted}")
                 runs[packing, f] = name
     return runs
+
+
+def same_value(found, wanted):
+    """run.txt's value against the store's: numbers within round-off, words as written."""
+    if isinstance(wanted, str):
+        return found == wanted
+    return not isinstance(found, str) and key_value(found) == key_value(wanted)
 
 
 def rod_runs(data_dir, aspect, window=EARLY):
@@ -266,7 +284,7 @@ def run_orifice_means(run_dir, window):
     if not covers(times[keep], rate.flow):
         return None
     summary = orifice_summary([rows[i] for i in keep])
-    return {name: summary[name] for name in ORIFICE_QUANTITIES}
+    return {name: summary[name] for name in ORIFICE_QUANTITIES if name in summary}   # spheres: no O_zz
 
 
 def orifice_series(aspect, f, runs, packing, window=EARLY):
@@ -289,11 +307,28 @@ class OrificePoint:
     note: str = ""
 
 
+def packing_means(per_run):
+    """{quantity: (mean over the runs, its se)} of the quantities every run
+    has (flow.seed_mean_ci: the runs' spread, or one run's block error)."""
+    if not per_run:
+        return {}
+    return {q: seed_mean_ci([m[q][0] for m in per_run], [m[q][1] for m in per_run],
+                            [BLOCKS - 1] * len(per_run))[:2]
+            for q in ORIFICE_QUANTITIES if all(q in m for m in per_run)}
+
+
+def spheres_orifice_point(data_dir, f):
+    """The spheres' averages at f over their window, from stage 8's runs."""
+    runs = stored_runs(data_dir, SPHERES_STORE, tuple(PACKINGS), {"shape": "sphere"})
+    per_run = [means for (packing, run_f), name in runs.items()
+               if run_f == f and (means := run_orifice_means(data_dir / name, SPHERES_WINDOW)) is not None]
+    note = "" if per_run else "under way (stage 8: the bench's runs again, with dumps)"
+    return OrificePoint(1.0, f, SPHERES_WINDOW, packing_means(per_run), len(per_run), len(PACKINGS), note)
+
+
 def orifice_points(data_dir=DATA_DIR):
     data_dir = Path(data_dir)
-    points = [OrificePoint(1.0, f, SPHERES_WINDOW, {}, 0, len(PACKINGS),
-                           "none archived: the spheres' runs at 60 mm kept no dumps nor orifice series")
-              for f in FREQUENCIES]
+    points = [spheres_orifice_point(data_dir, f) for f in FREQUENCIES]
     for window, frequencies in RUN_WINDOWS:
         for aspect in ASPECTS[1:]:
             runs, packings = rod_runs(data_dir, aspect, window)
@@ -301,9 +336,7 @@ def orifice_points(data_dir=DATA_DIR):
                 per_run = [means for packing in packings
                            if (name := orifice_series(aspect, f, runs, packing, window)) is not None
                            and (means := run_orifice_means(data_dir / name, window)) is not None]
-                values = {q: seed_mean_ci([m[q][0] for m in per_run], [m[q][1] for m in per_run],
-                                          [BLOCKS - 1] * len(per_run))[:2]
-                          for q in ORIFICE_QUANTITIES} if per_run else {}
+                values = packing_means(per_run)
                 note = ""
                 if aspect == 3.3 and f == 0.0:
                     note = ("the 8 s runs' 4 s twins; the 3rd packing clogs at rest" if window == EARLY
@@ -320,7 +353,7 @@ def orifice_table(points):
     for point in points:
         cells = [_aspect(point.aspect), f"{point.f:g}", window_text(point.window), f"{point.n} of {point.planned}"]
         for q in ORIFICE_QUANTITIES:
-            cells.append(f"{point.values[q][0]:.3f} ± {point.values[q][1]:.3f}" if point.n else "—")
+            cells.append(f"{point.values[q][0]:.3f} ± {point.values[q][1]:.3f}" if q in point.values else "—")
         lines.append("| " + " | ".join(cells + [point.note]) + " |")
     return "\n".join(lines) + "\n"
 
@@ -361,7 +394,7 @@ def plot_by_frequency(data_dir, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     rates = [p for p in rate_points(data_dir) if p.window in (EARLY, SPHERES_WINDOW)]
-    orifice = [p for p in orifice_points(data_dir) if p.n and p.window == EARLY]
+    orifice = [p for p in orifice_points(data_dir) if p.n and p.window in (EARLY, SPHERES_WINDOW)]
     fig, axes = plt.subplots(1, 4, figsize=(13, 3.6))
     fig.subplots_adjust(left=0.05, right=0.99, top=0.85, bottom=0.25, wspace=0.33)
     colours = dict(zip(ASPECTS, ("tab:grey", "tab:green", "tab:blue", "tab:purple")))
@@ -375,7 +408,7 @@ def plot_by_frequency(data_dir, path):
                 axes[0].annotate(str(p.n), (p.f, p.q), xytext=(4, 3), textcoords="offset points", fontsize=6,
                                  color=colours[aspect])
         for ax, quantity in zip(axes[1:], ORIFICE_QUANTITIES):
-            theirs = sorted((p for p in orifice if p.aspect == aspect), key=lambda p: p.f)
+            theirs = sorted((p for p in orifice if p.aspect == aspect and quantity in p.values), key=lambda p: p.f)
             if theirs:
                 ax.errorbar([p.f for p in theirs], [p.values[quantity][0] for p in theirs],
                             yerr=[p.values[quantity][1] for p in theirs], marker="o", color=colours[aspect],
@@ -390,7 +423,7 @@ def plot_by_frequency(data_dir, path):
         ax.set_xlim(-0.12, F_FAST + 0.17)
     fig.legend(loc="lower center", ncols=len(ASPECTS), fontsize=8)
     fig.suptitle(f"D = {D_MM} mm: Q (the number: packings) and the orifice averages against f, "
-                 f"over {window_text(EARLY)} (spheres: {window_text(SPHERES_WINDOW)}; no orifice series)",
+                 f"over {window_text(EARLY)} (spheres: {window_text(SPHERES_WINDOW)})",
                  fontsize=9)
     fig.savefig(path, dpi=120)
     plt.close(fig)

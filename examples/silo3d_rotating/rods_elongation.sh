@@ -16,6 +16,11 @@
 #      4-8 s (its 8 s runs at rest are earlier campaigns': silo3d_rods_drop_8s
 #      for the first packing, silo3d_rods_fig2c for the second); its packings
 #      are the Fig. 2c campaign's, carried in carry/silo3d_rods_elongation_L3.3
+#   8. spheres (L/d = 1), three packings, f = 0, 0.32 and 1.28, 2 s each
+#      (SPHERES_PROTOCOL): the runs of the cross-host bench's LIGGGHTS side
+#      (doc/data/silo3d_cross_host, the same deck, seeds and settling), run
+#      again with dumps for the orifice averages at L/d = 1, which the bench
+#      did not keep; store silo3d_rods_elongation_spheres
 #
 # A finished 4 s run of stages 1-4 is made 8 s long from its last
 # checkpoint (run.sh) when one is in its directory; the log says how the
@@ -34,12 +39,13 @@
 # machine's end is carried too (a settling of 22 500 rods takes hours).
 #
 # Environment (defaults in brackets):
-#   STAGES   which stages, in which order      ["1 2 3 4 5 6 7"]
+#   STAGES   which stages, in which order      ["1 2 3 4 5 6 7 8"]
 #   JOBS     runs at once within a stage        [1]
 #   STORES   the folder of the stores           [doc/data]
 #   PROTOCOL "f discharge transient" triples    ["0 8 2  0.32 8 2  1.28 4 2"]
 #            (the transient is where the orifice series starts; the
 #            analysis of Fig. 3 takes its own windows from discharge.txt)
+#   SPHERES_PROTOCOL  the same for stage 8  ["0 2 0.5  0.32 2 0.5  1.28 2 0.5"]
 #   DECK_VARS, CHECKPOINT go to run.sh (e.g. DECK_VARS="quick 1" for a test)
 #   SILOKIT_LIGGGHTS, SILOKIT_INPUTS: a frozen binary and decks for a
 #            campaign that outlasts the tree's changes (run.sh)
@@ -54,10 +60,12 @@ ACTION="${1:-}"
 RUN_DIR="${2:-}"
 [ -n "$RUN_DIR" ] && { [ "$ACTION" = run ] || [ "$ACTION" = keep ]; } || {
   echo "usage: bash examples/silo3d_rotating/rods_elongation.sh run|keep RUN_DIR" >&2; exit 2; }
-STAGES="${STAGES:-1 2 3 4 5 6 7}"
-FIRST=32452843 SECOND=15485863
+STAGES="${STAGES:-1 2 3 4 5 6 7 8}"
+FIRST=32452843 SECOND=15485863 THIRD=49979687
 # Fig. 3a's runs 8 s, Fig. 3b's 4 s; every orifice series from 2 s on
 PROTOCOL="${PROTOCOL:-0 8 2  0.32 8 2  1.28 4 2}"
+# the spheres' runs as the cross-host bench's: 2 s, Q over 0.5-2 s
+SPHERES_PROTOCOL="${SPHERES_PROTOCOL:-0 2 0.5  0.32 2 0.5  1.28 2 0.5}"
 STORES="${STORES:-$ROOT/doc/data}"
 
 stage() {   # stage N -> "aspect seeds frequencies"
@@ -66,16 +74,23 @@ stage() {   # stage N -> "aspect seeds frequencies"
     3) echo "2.5|$FIRST|0 0.32" ;;  4) echo "2.5|$SECOND|0 0.32" ;;
     5) echo "4.0|$FIRST $SECOND|1.28" ;;  6) echo "2.5|$FIRST $SECOND|1.28" ;;
     7) echo "3.3|$FIRST $SECOND|0.32" ;;
-    *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-7)" >&2; return 2 ;;
+    8) echo "spheres|$FIRST $SECOND $THIRD|0 0.32 1.28" ;;
+    *) echo "rods_elongation.sh: STAGES: no stage '$1' (1-8)" >&2; return 2 ;;
   esac
 }
 # The page uses Q and the orifice averages (the paper's Figs. 2b, 2d, 3
-# and 8), not maps: the archives keep no fields.npz, so that the twelve
-# runs fit doc/data's 30 MB (about 0.1 MB each).
+# and 8), not maps: the archives keep no fields.npz, so that the runs fit
+# doc/data's 30 MB (about 0.1 MB each). The spheres settle in one run, as
+# the bench's did, so that their packings are the bench's (a settling
+# with checkpoints is another trajectory at round-off); it takes minutes.
 campaign() {   # campaign ACTION ASPECT SEEDS FS
-  KEEP_FIELDS=0 ASPECT="$2" SEEDS="$3" FS="$4" PROTOCOL="$PROTOCOL" ALSO="" JOBS="${JOBS:-1}" SETTLE_CHECKPOINT=0.25 \
-    STORE="$STORES/silo3d_rods_elongation_L$2" \
-    bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/L$2"
+  local shape=rod aspect="$2" protocol="$PROTOCOL" settle_checkpoint=0.25 name="L$2"
+  if [ "$2" = spheres ]; then
+    shape=sphere aspect="" protocol="$SPHERES_PROTOCOL" settle_checkpoint=0 name=spheres
+  fi
+  KEEP_FIELDS=0 SHAPE="$shape" ASPECT="$aspect" SEEDS="$3" FS="$4" PROTOCOL="$protocol" ALSO="" JOBS="${JOBS:-1}" \
+    SETTLE_CHECKPOINT="$settle_checkpoint" STORE="$STORES/silo3d_rods_elongation_$name" \
+    bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/$name"
 }
 
 for n in $STAGES; do stage "$n" > /dev/null || exit 2; done
@@ -83,6 +98,7 @@ if [ "$ACTION" = keep ]; then
   for aspect in 4.0 2.5 3.3; do
     [ -d "$RUN_DIR/L$aspect" ] && campaign keep "$aspect" "$FIRST $SECOND" "0 0.32 1.28"
   done
+  [ -d "$RUN_DIR/spheres" ] && campaign keep spheres "$FIRST $SECOND $THIRD" "0 0.32 1.28"
   exit 0
 fi
 for n in $STAGES; do

@@ -26,6 +26,8 @@
 #              [all: "0 0.16 0.32 0.64 0.96 1.28", "32452843 15485863 49979687"]
 #   DS         the orifice diameter, m  [0.06]
 #   ASPECT     the rods' L/d            [3.3]
+#   SHAPE      rod | sphere: the grains (the elongation campaign's spheres
+#              at L/d = 1 run this way too; ASPECT is then not used)  [rod]
 #   PACKINGS   the settled packings     [carry/<store's name>/packings when
 #              it exists, else none: each seed is settled (0.6 CPU-h at 3.3)]
 #   SETTLE_CHECKPOINT  s of settling between checkpoints, so that a
@@ -58,6 +60,8 @@ DS="${DS:-0.06}"
 PYTHON="${PYTHON:-/usr/bin/python3}"
 analysis() { PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}" "$PYTHON" -m "$@"; }
 ASPECT="${ASPECT:-3.3}"
+SHAPE="${SHAPE:-rod}"
+case "$SHAPE" in rod|sphere) ;; *) echo "rods_fig2c.sh: SHAPE is rod or sphere, got: $SHAPE" >&2; exit 2 ;; esac
 CARRIED_PACKINGS="$(analysis analysis.campaign.silo3d_carry carry-dir "$STORE")/packings"
 PACKINGS="${PACKINGS:-}"
 if [ -z "$PACKINGS" ] && [ -d "$CARRIED_PACKINGS" ]; then PACKINGS="$CARRIED_PACKINGS"; fi
@@ -111,7 +115,7 @@ while [ $# -ge 2 ]; do LENGTHS+=(--length "$1" "$2"); shift 2; done
 analysis analysis.campaign.silo3d_carry reopen "$STORE" "$RUN_DIR" "${LENGTHS[@]}"
 # (DISCHARGE and TRANSIENT are each frequency's, from DISCHARGE_AT and
 # TRANSIENT_AT: run.sh needs defaults, never used)
-SHAPE=rod ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" SETTLE_CHECKPOINT="$SETTLE_CHECKPOINT" \
+SHAPE="$SHAPE" ASPECT="$ASPECT" DS="$DS" FS="$FS" SEEDS="$SEEDS" PACKINGS="$PACKINGS" SETTLE_CHECKPOINT="$SETTLE_CHECKPOINT" \
   DISCHARGE=1 TRANSIENT=0 DISCHARGE_AT="$DISCHARGE_AT" TRANSIENT_AT="$TRANSIENT_AT" \
   FIELDS="$(for f in $FS; do echo -n "$DS $f "; done)" JOBS="${JOBS:-2}" ANALYSE=0 \
   bash "$ROOT/examples/silo3d_rotating/run.sh" "$RUN_DIR"

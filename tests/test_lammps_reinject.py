@@ -402,6 +402,7 @@ def test_no_free_spot_is_an_error(tmp_path):
     with pytest.raises(LiggghtsError) as caught:
         run_lammps(deck, tmp_path)
     assert "no free spot in region 'top' for grain" in caught.value.message
+    assert "after 1000 attempts: enlarge the region or raise 'maxattempt'" in caught.value.message
 
 
 def test_rods_and_other_shapes_are_refused(tmp_path):

@@ -470,4 +470,5 @@ def test_no_free_spot_is_an_error(run):
         "region unused block")
     with pytest.raises(LiggghtsError) as caught:
         run(deck)
-    assert "no free spot in region 'top'" in caught.value.message
+    assert "no free spot in region 'top' for grain" in caught.value.message
+    assert "after 1000 attempts: enlarge the region or raise 'maxattempt'" in caught.value.message

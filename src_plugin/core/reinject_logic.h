@@ -419,7 +419,7 @@ struct State {
 // counts them and moves those of this rank. `spots` gets each one's spot
 // (tag -> sphere). Returns how many re-entered, or -1 when one found no
 // spot in max_attempts draws (its tag in unplaced_tag): the host stops
-// with an error. `shifts` (periodic_image_shifts) are the box's periodic
+// with an error (no_free_spot words it). `shifts` (periodic_image_shifts) are the box's periodic
 // images, which a spot must not overlap either. Every rank takes part.
 template <class Tag, class LeftThroughExit, class Uniform, class Inside>
 int reenter(State &state, const Grains<Tag> &grains, LeftThroughExit left_through_exit,
@@ -453,6 +453,14 @@ int reenter(State &state, const Grains<Tag> &grains, LeftThroughExit left_throug
   }
   move_to_spots(spots, grains);
   return static_cast<int>(leavers.size());
+}
+
+// The error's text when reenter() found no spot for grain `unplaced_tag`.
+inline std::string no_free_spot(const Settings &settings, int unplaced_tag)
+{
+  return "no free spot in region '" + settings.region_id + "' for grain " +
+         std::to_string(unplaced_tag) + " after " + std::to_string(settings.max_attempts) +
+         " attempts: enlarge the region or raise 'maxattempt'";
 }
 
 /* ----------------------------------------------------------------------

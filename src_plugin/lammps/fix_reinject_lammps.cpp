@@ -174,9 +174,7 @@ void FixReinject::pre_exchange()
       silokit::periodic_image_shifts(domain->periodicity, domain->h, domain->dimension == 2),
       settings.max_attempts, uniform, inside, world, spots, unplaced);
   if (reentered < 0)
-    error->all(FLERR, "{}: no free spot in region '{}' for grain {} after {} attempts: enlarge "
-               "the region or raise 'maxattempt'", STYLE, settings.region_id, unplaced,
-               settings.max_attempts);
+    error->all(FLERR, "{}: {}", STYLE, silokit::reinject::no_free_spot(settings, unplaced));
   if (reentered == 0) return;
   send_to_owners(spots);
   if (record)

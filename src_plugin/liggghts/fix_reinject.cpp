@@ -185,12 +185,8 @@ void FixReinject::pre_exchange()
     domain->dimension == 2,
     silokit::periodic_image_shifts(domain->periodicity, domain->h, domain->dimension == 2),
     settings.max_attempts, uniform, inside, world, spots, unplaced);
-  if (reentered < 0) {
-    const std::string message = "no free spot in region '" + settings.region_id + "' for grain " +
-      std::to_string(unplaced) + " after " + std::to_string(settings.max_attempts) +
-      " attempts: enlarge the region or raise 'maxattempt'";
-    error->fix_error(FLERR, this, message.c_str());
-  }
+  if (reentered < 0)
+    error->fix_error(FLERR, this, silokit::reinject::no_free_spot(settings, unplaced).c_str());
   if (reentered == 0) return;
   send_to_owners();
   if (record)

@@ -46,7 +46,8 @@
 #            (the transient is where the orifice series starts; the
 #            analysis of Fig. 3 takes its own windows from discharge.txt)
 #   SPHERES_PROTOCOL  the same for stage 8  ["0 2 0.5  0.32 2 0.5  1.28 2 0.5"]
-#   DECK_VARS, CHECKPOINT go to run.sh (e.g. DECK_VARS="quick 1" for a test)
+#   DECK_VARS, CHECKPOINT go to run.sh (e.g. DECK_VARS="quick 1" for a test;
+#            stage 8 runs without checkpoints, below)
 #   SILOKIT_LIGGGHTS, SILOKIT_INPUTS: a frozen binary and decks for a
 #            campaign that outlasts the tree's changes (run.sh)
 #   GLIBC_TUNABLES  [glibc.malloc.hugetlb=1]: malloc on transparent huge
@@ -80,16 +81,20 @@ stage() {   # stage N -> "aspect seeds frequencies"
 }
 # The page uses Q and the orifice averages (the paper's Figs. 2b, 2d, 3
 # and 8), not maps: the archives keep no fields.npz, so that the runs fit
-# doc/data's 30 MB (about 0.1 MB each). The spheres settle in one run, as
-# the bench's did, so that their packings are the bench's (a settling
-# with checkpoints is another trajectory at round-off); it takes minutes.
+# doc/data's 30 MB (about 0.1 MB each). The spheres settle and discharge
+# each in one run, as the bench's did, so that their packings and
+# trajectories are the bench's: a run cut into pieces by checkpoints is
+# another trajectory at round-off (a discharge with checkpoints every
+# 0.25 s parts from the bench's at 0.3 s). A settling or a 2 s run takes
+# minutes: one cut short runs again.
 campaign() {   # campaign ACTION ASPECT SEEDS FS
   local shape=rod aspect="$2" protocol="$PROTOCOL" settle_checkpoint=0.25 name="L$2"
+  local checkpoint="${CHECKPOINT:-0.25}"
   if [ "$2" = spheres ]; then
-    shape=sphere aspect="" protocol="$SPHERES_PROTOCOL" settle_checkpoint=0 name=spheres
+    shape=sphere aspect="" protocol="$SPHERES_PROTOCOL" settle_checkpoint=0 checkpoint=0 name=spheres
   fi
   KEEP_FIELDS=0 SHAPE="$shape" ASPECT="$aspect" SEEDS="$3" FS="$4" PROTOCOL="$protocol" ALSO="" JOBS="${JOBS:-1}" \
-    SETTLE_CHECKPOINT="$settle_checkpoint" STORE="$STORES/silo3d_rods_elongation_$name" \
+    SETTLE_CHECKPOINT="$settle_checkpoint" CHECKPOINT="$checkpoint" STORE="$STORES/silo3d_rods_elongation_$name" \
     bash "$ROOT/examples/silo3d_rotating/rods_fig2c.sh" "$1" "$RUN_DIR/$name"
 }
 

@@ -314,5 +314,19 @@ def test_the_spheres_orifice_averages_come_from_stage_8s_runs(data_with_a_store)
         elongation.orifice_points(data)
 
 
+def test_stage_8s_spheres_are_the_bench_runs_whose_q_fig_3_uses():
+    """The spheres' orifice averages and their Fig. 3 ratios come from the
+    same trajectories: each archived stage-8 run's discharge.txt is the
+    cross-host bench's LIGGGHTS run's (results.SPHERES), line for line."""
+    runs = sorted((DATA_DIR / elongation.SPHERES_STORE).glob("D0.06_f*_s*"))
+    if not runs:
+        pytest.skip("stage 8 has archived no run yet")
+    for run in runs:
+        info = {line.split()[0]: line.split()[1] for line in (run / "run.txt").read_text().splitlines()
+                if line and not line.startswith("#")}
+        bench = DATA_DIR / SPHERES[60, float(info["f"]), int(info["seed"])]
+        assert (run / "discharge.txt").read_text() == (bench / "discharge.txt").read_text(), run.name
+
+
 def test_the_committed_table_and_page_block_agree_with_the_records():
     assert elongation.main(["--check"]) == 0
